@@ -1,0 +1,1 @@
+//! SAH cost (placeholder).

@@ -1,0 +1,1 @@
+//! BVH invariants (placeholder).

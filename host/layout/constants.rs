@@ -1,0 +1,66 @@
+// Numbers shared by the host and the shaders, named once.
+//
+// This file is compiled twice: as `vkrt::layout::constants`, and by `host/build.rs`, which
+// writes each entry of `ALL` as a `#define` into the generated `constants.glsl` that every
+// shader includes. Only `u32` values; add a line to the table and both sides see it.
+
+macro_rules! shared_constants {
+    ($($(#[$meta:meta])* $name:ident = $value:expr;)*) => {
+        $($(#[$meta])* pub const $name: u32 = $value;)*
+        /// Every shared constant by name, for the GLSL generator and the tests.
+        pub const ALL: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
+    };
+}
+
+shared_constants! {
+    // Descriptor set 0 bindings. Each is one storage buffer (or uniform buffer for FRAME).
+    /// Flattened BVH nodes (`GpuNode[]`).
+    BINDING_NODES = 0;
+    /// Triangles in leaf order (`GpuTriangle[]`).
+    BINDING_TRIANGLES = 1;
+    /// Per-triangle shading data by primitive id (`GpuShading[]`).
+    BINDING_SHADING = 2;
+    /// Materials (`GpuMaterial[]`).
+    BINDING_MATERIALS = 3;
+    /// Point, directional and spot lights (`GpuLight[]`).
+    BINDING_LIGHTS = 4;
+    /// Emissive triangles (`GpuEmitter[]`).
+    BINDING_EMITTERS = 5;
+    /// Per-frame settings (`GpuFrame`, uniform buffer).
+    BINDING_FRAME = 6;
+    /// Accumulated radiance, one vec4 per pixel (rgb sum, sample count in w).
+    BINDING_ACCUM = 7;
+    /// Rays for batch queries (`GpuRay[]`).
+    BINDING_RAYS = 8;
+    /// Hit records for batch queries (`GpuHit[]`).
+    BINDING_HITS = 9;
+
+    /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
+    /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).
+    WORKGROUP_SIZE_X = 8;
+    WORKGROUP_SIZE_Y = 8;
+    /// Workgroup size for 1D kernels (ray batches).
+    WORKGROUP_SIZE_1D = 64;
+
+    /// A leaf packs (first triangle << LEAF_COUNT_BITS) | count into one u32; 0 count = interior.
+    LEAF_COUNT_BITS = 8;
+    /// Escape link value meaning "traversal is done".
+    NODE_NONE = 0xFFFF_FFFF;
+    /// Primitive id of a miss.
+    PRIM_NONE = 0xFFFF_FFFF;
+
+    /// Material flags (`GpuMaterial::flags`).
+    MATERIAL_MIRROR = 1;
+    MATERIAL_DIELECTRIC = 2;
+    MATERIAL_EMISSIVE = 4;
+
+    /// Light kinds (`GpuLight::kind`).
+    LIGHT_POINT = 0;
+    LIGHT_DIRECTIONAL = 1;
+    LIGHT_SPOT = 2;
+
+    /// Fixed samples per emissive triangle in the Whitted integrator (a stratified pattern).
+    WHITTED_EMITTER_SAMPLES = 4;
+    /// Whitted ray-tree stack entries; max depth is clamped to this minus one.
+    WHITTED_STACK_SIZE = 16;
+}

@@ -1,0 +1,2 @@
+//! GPU-visible structs (placeholder).
+pub mod constants;

@@ -1,0 +1,94 @@
+//! The renderer's view of a scene: triangles, materials, lights, a camera.
+//!
+//! Loaders ([`obj`], [`lab_yaml`]) produce a [`Scene`]; everything after them (BVH builders,
+//! layouts, integrators) reads only this. Coordinates are world space, right-handed, any unit.
+
+pub mod camera;
+pub mod features;
+pub mod lab_yaml;
+pub mod light;
+pub mod load;
+pub mod material;
+pub mod obj;
+pub mod procedural;
+
+pub use camera::Camera;
+pub use light::Light;
+pub use load::load_scene;
+pub use material::Material;
+
+use glam::{Vec2, Vec3};
+
+/// One triangle, with the per-vertex data shading needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Triangle {
+    /// Vertex positions in the order they appear in the file (counter-clockwise = front face).
+    pub p: [Vec3; 3],
+    /// Per-vertex shading normals, if the file has them.
+    pub n: Option<[Vec3; 3]>,
+    /// Per-vertex texture coordinates, if the file has them.
+    pub uv: Option<[Vec2; 3]>,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+}
+
+impl Triangle {
+    /// The unnormalised geometric normal, (p1 - p0) x (p2 - p0); its length is twice the area.
+    pub fn cross(&self) -> Vec3 {
+        (self.p[1] - self.p[0]).cross(self.p[2] - self.p[0])
+    }
+    pub fn area(&self) -> f32 {
+        0.5 * self.cross().length()
+    }
+    pub fn centroid(&self) -> Vec3 {
+        (self.p[0] + self.p[1] + self.p[2]) / 3.0
+    }
+    pub fn bounds(&self) -> crate::bvh::Aabb {
+        crate::bvh::Aabb::from_points(&self.p)
+    }
+}
+
+/// Everything a render needs from the scene file.
+#[derive(Debug, Clone, Default)]
+pub struct Scene {
+    /// All triangles. A triangle's index here is its primitive id everywhere else (hit records,
+    /// `vkrt trace` output): loaders keep the file's order, faces fan-triangulated in place.
+    pub triangles: Vec<Triangle>,
+    pub materials: Vec<Material>,
+    /// Lights that are not triangles (point, directional, spot). Emissive triangles are found
+    /// from their materials; lab `Area` lights are added as emissive triangles.
+    pub lights: Vec<Light>,
+    /// The camera from the file, or one framed on the scene's bounds.
+    pub camera: Camera,
+    /// Constant ambient light added to every surface by the Whitted integrator (lab `AmbientIntensity`).
+    pub ambient: Vec3,
+    /// Counts of what the loader dropped or changed, for the log.
+    pub stats: LoadStats,
+}
+
+/// What a loader did besides reading: dropped triangles, warnings.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LoadStats {
+    /// Zero-area triangles dropped (they can never be hit and would break sampling by area).
+    pub dropped_degenerate: usize,
+    /// Warnings already printed, kept for tests and `--verbose`.
+    pub warnings: Vec<String>,
+}
+
+impl Scene {
+    /// Axis-aligned bounds of all triangles.
+    pub fn bounds(&self) -> crate::bvh::Aabb {
+        let mut b = crate::bvh::Aabb::EMPTY;
+        for t in &self.triangles {
+            b = b.union(&t.bounds());
+        }
+        b
+    }
+
+    /// Indices of triangles whose material emits light.
+    pub fn emissive_triangles(&self) -> Vec<u32> {
+        (0..self.triangles.len() as u32)
+            .filter(|&i| self.materials[self.triangles[i as usize].material as usize].is_emissive())
+            .collect()
+    }
+}
