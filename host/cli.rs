@@ -1,1 +1,188 @@
-//! placeholder
+//! The `vkrt` command line.
+
+use crate::bvh::{BuildConfig, BuilderKind};
+use crate::gpu::{Context, ContextOptions};
+use crate::integrator::gpu_scene::{GpuScene, PreparedScene};
+use crate::integrator::{whitted, RenderSettings};
+use crate::{output, scene};
+use anyhow::{Context as _, Result};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// vkrt: a GPU-agnostic ray and path tracer on Vulkan compute shaders.
+///
+/// Runs headless on any Vulkan 1.2 device, including Mesa's lavapipe on a machine with no GPU.
+#[derive(Debug, Parser)]
+#[command(name = "vkrt", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene (.obj or lab .yaml) to an image (.png, .exr or .pfm).
+    Render(RenderArgs),
+    /// List the Vulkan devices and the limits that matter to vkrt.
+    Info(DeviceArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct DeviceArgs {
+    /// Vulkan device: an index from `vkrt info` or part of its name. Default: a discrete GPU
+    /// if present, else the best other device (lavapipe on a machine without a GPU).
+    #[arg(long, env = "VKRT_DEVICE", global = true)]
+    pub device: Option<String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorKind {
+    /// Whitted-style ray tracing: Blinn-Phong, hard shadows, mirrors, refraction.
+    Whitted,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file: Wavefront .obj (with its .mtl) or a course-lab .yaml.
+    pub scene: PathBuf,
+    /// Output image; the extension picks the format: .png (sRGB 8-bit), .exr or .pfm (linear float).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[arg(long, default_value_t = 512)]
+    pub width: u32,
+    #[arg(long, default_value_t = 512)]
+    pub height: u32,
+    #[arg(long, value_enum, default_value_t = IntegratorKind::Whitted)]
+    pub integrator: IntegratorKind,
+    /// Rays per path (1 = primary rays only).
+    #[arg(long, default_value_t = 7)]
+    pub max_depth: u32,
+    /// Samples per pixel: 1 samples the pixel centre; more are jittered inside the pixel.
+    #[arg(long, default_value_t = 1)]
+    pub spp: u32,
+    /// Seed for the jittered samples: the same seed gives the same image.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
+    /// BVH builder: median split (fast build) or binned SAH (faster rendering).
+    #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
+    pub builder: BuilderKind,
+    /// Print scene and timing details.
+    #[arg(short, long)]
+    pub verbose: bool,
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render(args) => render(&args),
+        Command::Info(args) => info(&args),
+    }
+}
+
+fn info(args: &DeviceArgs) -> Result<()> {
+    let devices = crate::gpu::context::list_devices()?;
+    let chosen = crate::gpu::context::choose_device(&devices, args.device.as_deref()).ok();
+    for d in &devices {
+        let mark = if Some(d.index) == chosen { "  <- vkrt uses this one" } else { "" };
+        println!("{d}{mark}");
+    }
+    if devices.is_empty() {
+        println!("no Vulkan devices found");
+    }
+    Ok(())
+}
+
+/// A progress bar that appears only once the work has taken over a second.
+struct DelayedProgress {
+    bar: indicatif::ProgressBar,
+    start: Instant,
+    shown: bool,
+}
+
+impl DelayedProgress {
+    fn new(what: &str) -> Self {
+        let bar = indicatif::ProgressBar::hidden();
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {percent}% {elapsed} (eta {eta})") {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_message(what.to_string());
+        Self { bar, start: Instant::now(), shown: false }
+    }
+    fn update(&mut self, done: u64, total: u64) {
+        if !self.shown && self.start.elapsed() > Duration::from_secs(1) {
+            self.bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            self.shown = true;
+        }
+        self.bar.set_length(total);
+        self.bar.set_position(done);
+    }
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+fn render(args: &RenderArgs) -> Result<()> {
+    // Fail on an unwritable output before spending time on the render.
+    output::check_writable(&args.output)?;
+    if args.width == 0 || args.height == 0 {
+        anyhow::bail!("--width and --height must be positive");
+    }
+    let t0 = Instant::now();
+    let scene = scene::load_scene(&args.scene)?;
+    let load_s = t0.elapsed().as_secs_f64();
+    let prepared = PreparedScene::new(&scene, args.builder, &BuildConfig::default())?;
+    let options = ContextOptions { device: args.device.device.clone(), ..ContextOptions::from_env() };
+    let ctx = Context::new(&options)?;
+    let t1 = Instant::now();
+    let gpu = GpuScene::upload(&ctx, &prepared)?;
+    let upload_s = t1.elapsed().as_secs_f64();
+    if args.verbose {
+        eprintln!(
+            "scene {}: {} triangles, {} materials, {} lights, {} emissive triangles, {} dropped as degenerate",
+            args.scene.display(),
+            scene.triangles.len(),
+            scene.materials.len(),
+            scene.lights.len(),
+            gpu.emitter_count,
+            scene.stats.dropped_degenerate
+        );
+        eprintln!("device: {} ({})", ctx.info.name, ctx.info.driver_info);
+        eprintln!(
+            "load {:.3} s, {:?} BVH build {:.3} s ({} nodes), upload {:.3} s",
+            load_s,
+            args.builder,
+            prepared.build_seconds,
+            prepared.flat.nodes.len(),
+            upload_s
+        );
+    }
+    let settings = RenderSettings {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        max_depth: args.max_depth,
+        seed: args.seed,
+        ..RenderSettings::default()
+    };
+    let mut progress = DelayedProgress::new("rendering");
+    let (image, stats) = match args.integrator {
+        IntegratorKind::Whitted => whitted::render(&ctx, &scene, &gpu, &settings, &mut |d, t| progress.update(d, t))?,
+    };
+    progress.finish();
+    output::write_image(&args.output, &image)?;
+    ctx.check_validation().context("Vulkan validation")?;
+    eprintln!(
+        "rendered {} at {}x{}, {} spp, depth {} in {:.3} s on {}{}",
+        args.output.display(),
+        args.width,
+        args.height,
+        args.spp,
+        args.max_depth,
+        stats.seconds,
+        ctx.info.name,
+        if stats.nonfinite_samples > 0 { format!(" ({} NaN/Inf samples dropped)", stats.nonfinite_samples) } else { String::new() }
+    );
+    Ok(())
+}

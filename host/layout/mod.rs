@@ -1,2 +1,177 @@
-//! GPU-visible structs (placeholder).
+//! Every struct that crosses to the GPU, and the flat arrays built from a scene and its BVH.
+//!
+//! Each struct here is `#[repr(C)]`, `Pod`, built from 4-byte scalars, with explicit padding
+//! and a size assert. `shaders/include/layout.glsl` mirrors them field by field, and the test
+//! `tests/layout.rs` checks the mirror against the compiled SPIR-V: nobody keeps them in sync
+//! by hand.
+
 pub mod constants;
+pub mod cpu_trace;
+pub mod flatten;
+pub mod scene_buffers;
+
+use bytemuck::{Pod, Zeroable};
+
+/// A node of the threaded (escape-link) BVH2, in depth-first pre-order.
+///
+/// Traversal: test the box; on a hit, an interior node continues at the next node in the
+/// array (its left child) and a leaf tests its triangles and continues at `escape`; on a
+/// miss, continue at `escape`, the next node that is not a descendant. No stack is needed
+/// (Smits 1998, "Efficiency issues for ray tracing").
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuNode {
+    pub bmin: [f32; 3],
+    /// Index of the next node after this subtree, or `NODE_NONE`.
+    pub escape: u32,
+    pub bmax: [f32; 3],
+    /// (first triangle << LEAF_COUNT_BITS) | count; count 0 marks an interior node.
+    pub leaf: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuNode>() == 32);
+
+/// A triangle in leaf order, with what intersection needs and nothing else.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuTriangle {
+    pub v0: [f32; 3],
+    /// Primitive id: the index in `Scene::triangles`.
+    pub prim: u32,
+    pub v1: [f32; 3],
+    pub _pad0: u32,
+    pub v2: [f32; 3],
+    pub _pad1: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 48);
+
+/// Per-primitive shading data, indexed by primitive id.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuShading {
+    /// Vertex normals (the geometric normal three times if the file has none).
+    pub n0: [f32; 3],
+    pub material: u32,
+    pub n1: [f32; 3],
+    pub _pad0: u32,
+    pub n2: [f32; 3],
+    pub _pad1: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuShading>() == 48);
+
+/// A material as the shaders read it. See `scene::Material` for the meaning of each field.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub diffuse: [f32; 3],
+    /// `MATERIAL_*` bits.
+    pub flags: u32,
+    pub specular: [f32; 3],
+    pub shininess: f32,
+    pub emission: [f32; 3],
+    pub ior: f32,
+}
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 48);
+
+/// A point, directional or spot light. See `scene::Light` for the units.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    pub position: [f32; 3],
+    /// `LIGHT_*`.
+    pub kind: u32,
+    /// Normalised; for a directional light, the direction toward the light.
+    pub direction: [f32; 3],
+    pub radius: f32,
+    pub intensity: [f32; 3],
+    pub _pad0: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuLight>() == 48);
+
+/// An emissive triangle, for light sampling.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuEmitter {
+    pub v0: [f32; 3],
+    pub prim: u32,
+    pub v1: [f32; 3],
+    pub area: f32,
+    pub v2: [f32; 3],
+    pub _pad0: u32,
+    pub radiance: [f32; 3],
+    pub _pad1: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuEmitter>() == 64);
+
+/// Per-render settings (uniform buffer, std140: every vec3 is followed by a 4-byte scalar).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuFrame {
+    pub cam_origin: [f32; 3],
+    pub tan_half_fov_y: f32,
+    pub cam_forward: [f32; 3],
+    pub aspect: f32,
+    pub cam_right: [f32; 3],
+    pub width: u32,
+    pub cam_up: [f32; 3],
+    pub height: u32,
+    pub ambient: [f32; 3],
+    pub max_depth: u32,
+    pub light_count: u32,
+    pub emitter_count: u32,
+    pub seed: u32,
+    /// Largest |coordinate| of the scene bounds: the length scale for ray offsets
+    /// (`shaders/include/offset.glsl`).
+    pub scene_scale: f32,
+}
+const _: () = assert!(std::mem::size_of::<GpuFrame>() == 96);
+
+/// Per-dispatch values (push constants): which tile and which samples this dispatch renders.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuPush {
+    pub tile_x: u32,
+    pub tile_y: u32,
+    /// Index of the first sample this dispatch takes per pixel.
+    pub sample_base: u32,
+    /// Samples per pixel in this dispatch.
+    pub sample_count: u32,
+    /// Spp of the whole render (for stratification).
+    pub total_spp: u32,
+    /// Rays in the batch (ray queries) or 0.
+    pub ray_count: u32,
+    /// 1: any-hit (shadow) queries; 0: closest hit.
+    pub any_hit: u32,
+    pub _pad0: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuPush>() == 32);
+
+/// A ray for batch queries: origin, tmin, direction, tmax (the `vkrt trace` file layout).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuRay {
+    pub origin: [f32; 3],
+    pub tmin: f32,
+    pub direction: [f32; 3],
+    pub tmax: f32,
+}
+const _: () = assert!(std::mem::size_of::<GpuRay>() == 32);
+
+/// The result of a batch query, with traversal counters.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuHit {
+    /// Distance along the ray; +inf on a miss.
+    pub t: f32,
+    /// Primitive id, or `PRIM_NONE`.
+    pub prim: u32,
+    /// Barycentrics of v1 and v2.
+    pub u: f32,
+    pub v: f32,
+    /// Nodes whose boxes were tested.
+    pub nodes_visited: u32,
+    /// Triangles tested.
+    pub tris_tested: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuHit>() == 32);

@@ -4,7 +4,6 @@
 //! layouts, integrators) reads only this. Coordinates are world space, right-handed, any unit.
 
 pub mod camera;
-pub mod features;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;

@@ -1,0 +1,155 @@
+//! Storage and uniform buffers, with upload and read-back that work on every memory model:
+//! mapped directly where device memory is host-visible (lavapipe, integrated GPUs, ReBAR),
+//! through a staging buffer and a copy elsewhere.
+
+use super::commands::submit_and_wait;
+use super::Context;
+use anyhow::{anyhow, Context as _, Result};
+use ash::vk;
+
+/// Where a buffer should live.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MemoryLocation {
+    /// Fast for the GPU; mapped only if the device offers host-visible device-local memory.
+    Device,
+    /// Host-visible and coherent (staging, read-back).
+    Host,
+}
+
+/// A buffer and its memory, freed on drop.
+pub struct Buffer<'a> {
+    ctx: &'a Context,
+    pub buffer: vk::Buffer,
+    memory: vk::DeviceMemory,
+    pub size: u64,
+    mapped: Option<*mut u8>,
+    name: String,
+}
+
+fn find_memory_type(ctx: &Context, bits: u32, want: vk::MemoryPropertyFlags) -> Option<u32> {
+    let m = &ctx.memory;
+    (0..m.memory_type_count).find(|&i| bits & (1 << i) != 0 && m.memory_types[i as usize].property_flags.contains(want))
+}
+
+impl<'a> Buffer<'a> {
+    /// A buffer of `size` bytes (at least 16: Vulkan forbids empty buffers, and an empty array
+    /// still needs something bound).
+    pub fn new(ctx: &'a Context, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Self> {
+        let size = size.max(16);
+        let usage = usage | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        let info = vk::BufferCreateInfo::default().size(size).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let dev = &ctx.device;
+        // SAFETY: valid device and create info; every object is destroyed on the error paths below or in Drop.
+        unsafe {
+            let buffer = dev.create_buffer(&info, None).with_context(|| format!("vkCreateBuffer '{name}' ({size} bytes)"))?;
+            let req = dev.get_buffer_memory_requirements(buffer);
+            let hv = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
+            let dl = vk::MemoryPropertyFlags::DEVICE_LOCAL;
+            let choice = match location {
+                MemoryLocation::Device => find_memory_type(ctx, req.memory_type_bits, dl | hv)
+                    .map(|t| (t, true))
+                    .or_else(|| find_memory_type(ctx, req.memory_type_bits, dl).map(|t| (t, false))),
+                MemoryLocation::Host => find_memory_type(ctx, req.memory_type_bits, hv | vk::MemoryPropertyFlags::HOST_CACHED)
+                    .or_else(|| find_memory_type(ctx, req.memory_type_bits, hv))
+                    .map(|t| (t, true)),
+            };
+            let Some((type_index, mappable)) = choice else {
+                dev.destroy_buffer(buffer, None);
+                return Err(anyhow!("no suitable memory type for buffer '{name}'"));
+            };
+            let alloc = vk::MemoryAllocateInfo::default().allocation_size(req.size).memory_type_index(type_index);
+            let memory = match dev.allocate_memory(&alloc, None) {
+                Ok(m) => m,
+                Err(e) => {
+                    dev.destroy_buffer(buffer, None);
+                    return Err(anyhow!("vkAllocateMemory for buffer '{name}' ({} bytes): {e}", req.size));
+                }
+            };
+            let mut made = Self { ctx, buffer, memory, size, mapped: None, name: name.to_string() };
+            dev.bind_buffer_memory(buffer, memory, 0).with_context(|| format!("vkBindBufferMemory '{name}'"))?;
+            if mappable {
+                let ptr = dev
+                    .map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty())
+                    .with_context(|| format!("vkMapMemory '{name}'"))?;
+                made.mapped = Some(ptr as *mut u8);
+            }
+            Ok(made)
+        }
+    }
+
+    /// A device buffer holding `data`.
+    pub fn with_data<T: bytemuck::Pod>(ctx: &'a Context, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<Self> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let b = Self::new(ctx, name, bytes.len() as u64, usage, MemoryLocation::Device)?;
+        b.write(bytes)?;
+        Ok(b)
+    }
+
+    /// Copies `bytes` to the start of the buffer.
+    pub fn write(&self, bytes: &[u8]) -> Result<()> {
+        if bytes.len() as u64 > self.size {
+            return Err(anyhow!("writing {} bytes into buffer '{}' of {} bytes", bytes.len(), self.name, self.size));
+        }
+        if bytes.is_empty() {
+            return Ok(());
+        }
+        if let Some(ptr) = self.mapped {
+            // SAFETY: the mapping covers `size` bytes and nothing on the GPU uses the buffer now
+            // (every submission is waited for).
+            unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), ptr, bytes.len()) };
+            return Ok(());
+        }
+        let staging = Buffer::new(self.ctx, "staging upload", bytes.len() as u64, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
+        staging.write(bytes)?;
+        copy(self.ctx, &staging, self, bytes.len() as u64)
+    }
+
+    /// Fills the buffer with zeros.
+    pub fn clear(&self) -> Result<()> {
+        let buffer = self.buffer;
+        let size = self.size;
+        submit_and_wait(self.ctx, "clear buffer", |cmd| unsafe {
+            self.ctx.device.cmd_fill_buffer(cmd, buffer, 0, size, 0);
+        })
+    }
+
+    /// Reads `len` bytes from the start of the buffer.
+    pub fn read(&self, len: u64) -> Result<Vec<u8>> {
+        let len = len.min(self.size);
+        if let Some(ptr) = self.mapped {
+            let mut out = vec![0u8; len as usize];
+            // SAFETY: as in `write`; coherent memory, the GPU is idle.
+            unsafe { std::ptr::copy_nonoverlapping(ptr, out.as_mut_ptr(), len as usize) };
+            return Ok(out);
+        }
+        let staging = Buffer::new(self.ctx, "staging read-back", len, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
+        copy(self.ctx, self, &staging, len)?;
+        staging.read(len)
+    }
+
+    /// Reads `count` values of type T.
+    pub fn read_as<T: bytemuck::Pod>(&self, count: usize) -> Result<Vec<T>> {
+        let bytes = self.read((count * std::mem::size_of::<T>()) as u64)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+}
+
+fn copy(ctx: &Context, src: &Buffer, dst: &Buffer, len: u64) -> Result<()> {
+    let region = [vk::BufferCopy { src_offset: 0, dst_offset: 0, size: len }];
+    submit_and_wait(ctx, &format!("copy '{}' to '{}'", src.name, dst.name), |cmd| unsafe {
+        ctx.device.cmd_copy_buffer(cmd, src.buffer, dst.buffer, &region);
+    })
+}
+
+impl Drop for Buffer<'_> {
+    fn drop(&mut self) {
+        // SAFETY: every submission that used this buffer has been waited for.
+        unsafe {
+            if self.mapped.is_some() {
+                self.ctx.device.unmap_memory(self.memory);
+            }
+            self.ctx.device.destroy_buffer(self.buffer, None);
+            self.ctx.device.free_memory(self.memory, None);
+        }
+    }
+}

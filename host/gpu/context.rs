@@ -1,0 +1,282 @@
+//! The Vulkan instance, the chosen physical device, its logical device and compute queue.
+
+use super::device_info::DeviceInfo;
+use anyhow::{anyhow, bail, Context as _, Result};
+use ash::vk;
+use std::ffi::{c_void, CStr};
+use std::sync::Mutex;
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Whether to turn on the Khronos validation layers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Validation {
+    Off,
+    /// On if the layer is installed (the tests use this: a message then fails the test).
+    IfAvailable,
+    /// On, or an error if the layer is missing.
+    Required,
+}
+
+/// How to create a [`Context`].
+#[derive(Debug, Clone, Default)]
+pub struct ContextOptions {
+    /// Device index or a case-insensitive part of its name; `None` picks the default
+    /// (a discrete GPU if present, else the best other device, lavapipe on a GPU-less machine).
+    pub device: Option<String>,
+    pub validation: Option<Validation>,
+}
+
+impl ContextOptions {
+    /// Options from the environment: `VKRT_DEVICE` and `VKRT_VALIDATION` (0/1).
+    pub fn from_env() -> Self {
+        let device = std::env::var("VKRT_DEVICE").ok().filter(|s| !s.is_empty());
+        let validation = match std::env::var("VKRT_VALIDATION").as_deref() {
+            Ok("1") | Ok("on") | Ok("true") => Some(Validation::Required),
+            Ok("0") | Ok("off") | Ok("false") => Some(Validation::Off),
+            _ => None,
+        };
+        Self { device, validation }
+    }
+}
+
+/// Owns the instance, device and queue; everything else borrows it.
+pub struct Context {
+    _entry: ash::Entry,
+    pub instance: ash::Instance,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Validation messages collected by the debug callback (kept boxed: the callback holds a
+    /// pointer to it).
+    messages: Box<Mutex<Vec<String>>>,
+    pub physical: vk::PhysicalDevice,
+    pub device: ash::Device,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub command_pool: vk::CommandPool,
+    pub memory: vk::PhysicalDeviceMemoryProperties,
+    pub info: DeviceInfo,
+    pub validation_enabled: bool,
+}
+
+unsafe extern "system" fn debug_callback(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    if severity.intersects(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
+        let text = if data.is_null() || (*data).p_message.is_null() {
+            String::from("(no message)")
+        } else {
+            CStr::from_ptr((*data).p_message).to_string_lossy().into_owned()
+        };
+        eprintln!("vulkan validation: {text}");
+        if let Some(store) = (user as *const Mutex<Vec<String>>).as_ref() {
+            if let Ok(mut v) = store.lock() {
+                v.push(text);
+            }
+        }
+    }
+    vk::FALSE
+}
+
+/// Loads the Vulkan loader, or explains how to install it.
+fn load_entry() -> Result<ash::Entry> {
+    // SAFETY: loading the system's Vulkan loader library; no other code runs during it.
+    unsafe { ash::Entry::load() }.map_err(|e| {
+        anyhow!("could not load the Vulkan loader (libvulkan.so.1): {e}. Install it and a driver: run `tools/ensure-deps.sh` as root (Debian: libvulkan1, mesa-vulkan-drivers)")
+    })
+}
+
+fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
+    let app = vk::ApplicationInfo::default()
+        .application_name(c"vkrt")
+        .engine_name(c"vkrt")
+        .api_version(vk::API_VERSION_1_2);
+    let layers = [VALIDATION_LAYER.as_ptr()];
+    let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+    let mut info = vk::InstanceCreateInfo::default().application_info(&app);
+    if validation {
+        info = info.enabled_layer_names(&layers).enabled_extension_names(&extensions);
+    }
+    // SAFETY: the create info and everything it points to live until the call returns.
+    unsafe { entry.create_instance(&info, None) }.context("vkCreateInstance")
+}
+
+fn layer_available(entry: &ash::Entry, name: &CStr) -> bool {
+    // SAFETY: plain enumeration call.
+    unsafe { entry.enumerate_instance_layer_properties() }
+        .map(|layers| layers.iter().any(|l| l.layer_name_as_c_str().map(|n| n == name).unwrap_or(false)))
+        .unwrap_or(false)
+}
+
+/// Every physical device the loader reports, with its properties.
+pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    let entry = load_entry()?;
+    let instance = create_instance(&entry, false)?;
+    // SAFETY: the instance is valid and destroyed right after use.
+    let result = unsafe {
+        instance
+            .enumerate_physical_devices()
+            .context("vkEnumeratePhysicalDevices")
+            .map(|pds| pds.iter().enumerate().map(|(i, &pd)| DeviceInfo::query(&instance, pd, i)).collect())
+    };
+    unsafe { instance.destroy_instance(None) };
+    result
+}
+
+/// Picks a device from `infos`: by index or name part if `wanted` is given, else the default.
+pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize> {
+    let usable: Vec<&DeviceInfo> = infos.iter().filter(|d| d.usable).collect();
+    if usable.is_empty() {
+        bail!(
+            "no usable Vulkan device (found {}). On a machine without a GPU install Mesa's lavapipe: run `tools/ensure-deps.sh` as root",
+            infos.len()
+        );
+    }
+    match wanted {
+        Some(w) => {
+            let found = if let Ok(i) = w.parse::<usize>() {
+                infos.iter().find(|d| d.index == i)
+            } else {
+                let lw = w.to_lowercase();
+                infos.iter().find(|d| d.name.to_lowercase().contains(&lw))
+            };
+            let names: Vec<String> = infos.iter().map(|d| format!("[{}] {}", d.index, d.name)).collect();
+            match found {
+                Some(d) if d.usable => Ok(d.index),
+                Some(d) => bail!("device '{w}' ({}) is not usable: it needs Vulkan 1.2 and a compute queue", d.name),
+                None => bail!("no Vulkan device matches '{w}'; devices: {}", names.join(", ")),
+            }
+        }
+        None => Ok(usable.iter().min_by_key(|d| (d.default_rank(), d.index)).map(|d| d.index).unwrap_or(0)),
+    }
+}
+
+impl Context {
+    pub fn new(options: &ContextOptions) -> Result<Self> {
+        let entry = load_entry()?;
+        let validation_mode = options.validation.unwrap_or(Validation::Off);
+        let have_layer = layer_available(&entry, VALIDATION_LAYER);
+        let validation = match validation_mode {
+            Validation::Off => false,
+            Validation::IfAvailable => have_layer,
+            Validation::Required if !have_layer => {
+                bail!("validation was asked for but VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)")
+            }
+            Validation::Required => true,
+        };
+        let instance = create_instance(&entry, validation)?;
+        let messages: Box<Mutex<Vec<String>>> = Box::new(Mutex::new(Vec::new()));
+        let mut ctx_debug = None;
+        if validation {
+            let du = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                )
+                .pfn_user_callback(Some(debug_callback))
+                .user_data(&*messages as *const Mutex<Vec<String>> as *mut c_void);
+            // SAFETY: `messages` is boxed and outlives the messenger (destroyed first in Drop).
+            let messenger = unsafe { du.create_debug_utils_messenger(&info, None) }.context("vkCreateDebugUtilsMessengerEXT")?;
+            ctx_debug = Some((du, messenger));
+        }
+        // From here on, failures must destroy what was created: build the rest in a closure.
+        let made = unsafe { Self::create_device(&instance, options) };
+        match made {
+            Ok((physical, device, queue, queue_family, command_pool, memory, info)) => Ok(Self {
+                _entry: entry,
+                instance,
+                debug: ctx_debug,
+                messages,
+                physical,
+                device,
+                queue,
+                queue_family,
+                command_pool,
+                memory,
+                info,
+                validation_enabled: validation,
+            }),
+            Err(e) => {
+                unsafe {
+                    if let Some((du, m)) = ctx_debug {
+                        du.destroy_debug_utils_messenger(m, None);
+                    }
+                    instance.destroy_instance(None);
+                }
+                Err(e)
+            }
+        }
+    }
+
+    #[allow(clippy::type_complexity)]
+    unsafe fn create_device(
+        instance: &ash::Instance,
+        options: &ContextOptions,
+    ) -> Result<(vk::PhysicalDevice, ash::Device, vk::Queue, u32, vk::CommandPool, vk::PhysicalDeviceMemoryProperties, DeviceInfo)> {
+        let pds = instance.enumerate_physical_devices().context("vkEnumeratePhysicalDevices")?;
+        let infos: Vec<DeviceInfo> = pds.iter().enumerate().map(|(i, &pd)| DeviceInfo::query(instance, pd, i)).collect();
+        let index = choose_device(&infos, options.device.as_deref())?;
+        let physical = pds[index];
+        let info = infos[index].clone();
+        let families = instance.get_physical_device_queue_family_properties(physical);
+        // Prefer a compute queue without graphics (an async compute queue) if there is one.
+        let queue_family = families
+            .iter()
+            .enumerate()
+            .filter(|(_, q)| q.queue_flags.contains(vk::QueueFlags::COMPUTE))
+            .min_by_key(|(_, q)| q.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            .map(|(i, _)| i as u32)
+            .ok_or_else(|| anyhow!("device {} has no compute queue", info.name))?;
+        let priorities = [1.0f32];
+        let queue_info = [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
+        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        let device = instance
+            .create_device(physical, &device_info, None)
+            .with_context(|| format!("vkCreateDevice on {}", info.name))?;
+        let queue = device.get_device_queue(queue_family, 0);
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool = match device.create_command_pool(&pool_info, None) {
+            Ok(p) => p,
+            Err(e) => {
+                device.destroy_device(None);
+                return Err(anyhow!("vkCreateCommandPool: {e}"));
+            }
+        };
+        let memory = instance.get_physical_device_memory_properties(physical);
+        Ok((physical, device, queue, queue_family, command_pool, memory, info))
+    }
+
+    /// Validation messages (warnings and errors) seen so far.
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.messages.lock().map(|v| v.clone()).unwrap_or_default()
+    }
+
+    /// Fails if the validation layers reported anything.
+    pub fn check_validation(&self) -> Result<()> {
+        let m = self.validation_messages();
+        if m.is_empty() { Ok(()) } else { bail!("{} Vulkan validation message(s); first: {}", m.len(), m[0]) }
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        // SAFETY: every object made from the device is owned by something that borrows this
+        // context, so it is gone by now; wait for the queue, then destroy in reverse order.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_command_pool(self.command_pool, None);
+            self.device.destroy_device(None);
+            if let Some((du, m)) = self.debug.take() {
+                du.destroy_debug_utils_messenger(m, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}

@@ -1,0 +1,79 @@
+//! A scene uploaded to the GPU: BVH arrays plus shading data, ready to bind.
+
+use crate::bvh::{self, BuildConfig, BuilderKind};
+use crate::gpu::{Buffer, Context};
+use crate::layout::flatten::{flatten, FlatBvh};
+use crate::layout::scene_buffers::SceneBuffers;
+use crate::scene::Scene;
+use anyhow::{Context as _, Result};
+use ash::vk;
+
+/// How long building and uploading took, for reports.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PrepareTimes {
+    pub build_seconds: f64,
+    pub upload_seconds: f64,
+}
+
+/// CPU side of a prepared scene: the flat BVH and the other arrays.
+pub struct PreparedScene {
+    pub flat: FlatBvh,
+    pub buffers: SceneBuffers,
+    pub build_seconds: f64,
+}
+
+impl PreparedScene {
+    pub fn new(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> Result<Self> {
+        let start = std::time::Instant::now();
+        let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
+        let tree = bvh::build(builder, &boxes, &centroids, config);
+        let flat = flatten(&tree, &scene.triangles).context("flattening the BVH")?;
+        let build_seconds = start.elapsed().as_secs_f64();
+        Ok(Self { flat, buffers: SceneBuffers::new(scene), build_seconds })
+    }
+}
+
+/// The scene's buffers on the device.
+pub struct GpuScene<'a> {
+    pub nodes: Buffer<'a>,
+    pub triangles: Buffer<'a>,
+    pub shading: Buffer<'a>,
+    pub materials: Buffer<'a>,
+    pub lights: Buffer<'a>,
+    pub emitters: Buffer<'a>,
+    pub light_count: u32,
+    pub emitter_count: u32,
+    pub triangle_count: u32,
+}
+
+impl<'a> GpuScene<'a> {
+    pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let max = ctx.info.max_storage_buffer_range as usize;
+        let check = |name: &str, bytes: usize| -> Result<()> {
+            if bytes > max {
+                anyhow::bail!(
+                    "the scene's {name} take {} MiB, over this device's {} MiB storage-buffer limit",
+                    bytes >> 20,
+                    max >> 20
+                );
+            }
+            Ok(())
+        };
+        let b = &prepared.buffers;
+        check("BVH nodes", std::mem::size_of_val(prepared.flat.nodes.as_slice()))?;
+        check("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
+        check("shading data", std::mem::size_of_val(b.shading.as_slice()))?;
+        Ok(Self {
+            nodes: Buffer::with_data(ctx, "bvh nodes", &prepared.flat.nodes, storage)?,
+            triangles: Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, storage)?,
+            shading: Buffer::with_data(ctx, "shading", &b.shading, storage)?,
+            materials: Buffer::with_data(ctx, "materials", &b.materials, storage)?,
+            lights: Buffer::with_data(ctx, "lights", &b.lights, storage)?,
+            emitters: Buffer::with_data(ctx, "emitters", &b.emitters, storage)?,
+            light_count: b.lights.len() as u32,
+            emitter_count: b.emitters.len() as u32,
+            triangle_count: prepared.flat.triangles.len() as u32,
+        })
+    }
+}

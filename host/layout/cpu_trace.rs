@@ -1,0 +1,174 @@
+//! The CPU twin of `shaders/include/traverse.glsl`: it walks the same flat arrays with the same
+//! arithmetic, so that the GPU can be checked against it hit for hit, and so that traversal
+//! changes can be debugged on the CPU.
+//!
+//! Keep the two in step: every function here names its GLSL counterpart.
+
+use super::constants::{LEAF_COUNT_BITS, NODE_NONE, PRIM_NONE};
+use super::{GpuHit, GpuNode, GpuRay, GpuTriangle};
+use glam::Vec3;
+
+/// Ize 2013, "Robust BVH ray traversal": multiplying the far slab distance by 1 + 2*gamma(3)
+/// (gamma(n) = n*eps / (1 - n*eps), eps = 2^-24) makes the float slab test conservative.
+pub const SLAB_FAR_PAD: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// Per-ray values precomputed once: the slab test's reciprocal direction and the watertight
+/// triangle test's shear (`RayPre` in traverse.glsl).
+#[derive(Debug, Clone, Copy)]
+pub struct RayPre {
+    pub origin: Vec3,
+    pub inv_dir: Vec3,
+    pub tmin: f32,
+    /// Axis of the largest |direction| component, and the two others, ordered so that the
+    /// sheared coordinates keep the triangle's winding (Woop, Benthin & Wald 2013, sec. 3).
+    pub kx: usize,
+    pub ky: usize,
+    pub kz: usize,
+    /// Shear constants Sx, Sy, Sz.
+    pub shear: Vec3,
+}
+
+/// `safe_reciprocal` in GLSL: 1/d, with d = 0 mapped to the largest float of the same sign
+/// rather than infinity. An origin exactly on a slab plane then gives 0 * MAX = 0 instead of
+/// 0 * inf = NaN, and the slab counts as entered (boundaries inclusive).
+pub fn safe_reciprocal(d: f32) -> f32 {
+    if d == 0.0 { f32::MAX.copysign(d) } else { 1.0 / d }
+}
+
+impl RayPre {
+    pub fn new(ray: &GpuRay) -> Self {
+        let origin = Vec3::from(ray.origin);
+        let d = Vec3::from(ray.direction);
+        let inv_dir = Vec3::new(safe_reciprocal(d.x), safe_reciprocal(d.y), safe_reciprocal(d.z));
+        let a = d.abs();
+        let kz = if a.x >= a.y && a.x >= a.z { 0 } else if a.y >= a.z { 1 } else { 2 };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        Self { origin, inv_dir, tmin: ray.tmin, kx, ky, kz, shear }
+    }
+}
+
+/// `intersect_box`: the entry distance if the ray overlaps the box within [tmin, tmax], else
+/// None. Conservative per Ize 2013; NaN-safe (any NaN makes the comparison fail: a miss).
+pub fn intersect_box(r: &RayPre, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
+    let t0 = (bmin - r.origin) * r.inv_dir;
+    let t1 = (bmax - r.origin) * r.inv_dir;
+    let near = t0.min(t1);
+    let far = t0.max(t1);
+    let t_enter = near.x.max(near.y).max(near.z).max(r.tmin);
+    let t_exit = far.x.min(far.y).min(far.z).min(tmax) * SLAB_FAR_PAD;
+    // Written so that NaN compares false: a NaN box or ray is a miss.
+    if t_enter <= t_exit { Some(t_enter) } else { None }
+}
+
+/// A triangle hit: distance and the barycentric weights of v1 and v2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TriHit {
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+}
+
+/// `intersect_triangle`: the watertight test of Woop, Benthin & Wald 2013 ("Watertight
+/// ray/triangle intersection", JCGT 2(1)). No epsilon: the edge functions of a shared edge are
+/// exact negations of each other (a*b - c*d evaluated without fused multiply-add, which the
+/// shader enforces with `precise`), so a ray can never pass between two triangles; an edge
+/// value of exactly 0 counts as inside for both. Accepts hits with tmin < t < tmax.
+pub fn intersect_triangle(r: &RayPre, v0: Vec3, v1: Vec3, v2: Vec3, tmax: f32) -> Option<TriHit> {
+    let a = v0 - r.origin;
+    let b = v1 - r.origin;
+    let c = v2 - r.origin;
+    let (kx, ky, kz) = (r.kx, r.ky, r.kz);
+    let s = r.shear;
+    let ax = a[kx] - s.x * a[kz];
+    let ay = a[ky] - s.y * a[kz];
+    let bx = b[kx] - s.x * b[kz];
+    let by = b[ky] - s.y * b[kz];
+    let cx = c[kx] - s.x * c[kz];
+    let cy = c[ky] - s.y * c[kz];
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 || det.is_nan() {
+        return None;
+    }
+    let az = s.z * a[kz];
+    let bz = s.z * b[kz];
+    let cz = s.z * c[kz];
+    let t_scaled = u * az + v * bz + w * cz;
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    if !(t > r.tmin && t < tmax) {
+        return None;
+    }
+    Some(TriHit { t, u: v * inv_det, v: w * inv_det })
+}
+
+/// A miss, as the shader writes it.
+pub fn miss() -> GpuHit {
+    GpuHit { t: f32::INFINITY, prim: PRIM_NONE, u: 0.0, v: 0.0, nodes_visited: 0, tris_tested: 0, _pad0: 0, _pad1: 0 }
+}
+
+/// `trace_threaded`: closest hit (or, with `any_hit`, the first hit found) along the ray,
+/// walking the threaded BVH. Closest-hit queries shrink tmax to the best hit, so the box test
+/// skips every node whose entry distance exceeds it.
+pub fn trace(nodes: &[GpuNode], tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
+    let r = RayPre::new(ray);
+    let mut hit = miss();
+    let mut tmax = ray.tmax;
+    let mut index = if nodes.is_empty() { NODE_NONE } else { 0 };
+    let count_mask = (1u32 << LEAF_COUNT_BITS) - 1;
+    while index != NODE_NONE {
+        let node = &nodes[index as usize];
+        hit.nodes_visited += 1;
+        if intersect_box(&r, Vec3::from(node.bmin), Vec3::from(node.bmax), tmax).is_none() {
+            index = node.escape;
+            continue;
+        }
+        let count = node.leaf & count_mask;
+        if count == 0 {
+            index += 1;
+            continue;
+        }
+        let first = node.leaf >> LEAF_COUNT_BITS;
+        for i in first..first + count {
+            let tri = &tris[i as usize];
+            hit.tris_tested += 1;
+            if let Some(h) = intersect_triangle(&r, tri.v0.into(), tri.v1.into(), tri.v2.into(), tmax) {
+                tmax = h.t;
+                hit.t = h.t;
+                hit.prim = tri.prim;
+                hit.u = h.u;
+                hit.v = h.v;
+                if any_hit {
+                    return hit;
+                }
+            }
+        }
+        index = node.escape;
+    }
+    hit
+}
+
+/// Brute force over every triangle, in primitive-id order: the root of the agreement chain.
+pub fn brute_force(tris: &[crate::scene::Triangle], ray: &GpuRay) -> GpuHit {
+    let r = RayPre::new(ray);
+    let mut hit = miss();
+    let mut tmax = ray.tmax;
+    for (prim, t) in tris.iter().enumerate() {
+        hit.tris_tested += 1;
+        if let Some(h) = intersect_triangle(&r, t.p[0], t.p[1], t.p[2], tmax) {
+            tmax = h.t;
+            hit = GpuHit { t: h.t, prim: prim as u32, u: h.u, v: h.v, ..hit };
+        }
+    }
+    hit
+}

@@ -1,0 +1,166 @@
+//! Images by extension: `.png` (sRGB, 8-bit, clamped), `.exr` and `.pfm` (linear float32).
+//! Row 0 is the top of every image. Files are written to a temporary name beside the target and
+//! renamed into place, so an existing output is never replaced by a partial one.
+
+use crate::integrator::Image;
+use anyhow::{anyhow, bail, Context as _, Result};
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Exr,
+    Pfm,
+}
+
+impl ImageFormat {
+    pub fn from_path(path: &Path) -> Result<Self> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+        match ext.as_deref() {
+            Some("png") => Ok(Self::Png),
+            Some("exr") => Ok(Self::Exr),
+            Some("pfm") => Ok(Self::Pfm),
+            _ => bail!("{}: unknown image format; use .png, .exr or .pfm", path.display()),
+        }
+    }
+}
+
+/// Linear to sRGB-encoded, clamped to [0, 1] (IEC 61966-2-1).
+pub fn linear_to_srgb(x: f32) -> f32 {
+    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+    if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 }
+}
+
+fn temp_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(format!(".{}.tmp", std::process::id()));
+    path.with_file_name(name)
+}
+
+/// Fails now, before any rendering, if `path` has an unknown extension or its folder cannot
+/// be written.
+pub fn check_writable(path: &Path) -> Result<()> {
+    ImageFormat::from_path(path)?;
+    let tmp = temp_path(path);
+    std::fs::File::create(&tmp).with_context(|| format!("{}: cannot write the output here", path.display()))?;
+    let _ = std::fs::remove_file(&tmp);
+    Ok(())
+}
+
+/// Writes `image` to `path` in the format its extension names, atomically.
+pub fn write_image(path: &Path, image: &Image) -> Result<()> {
+    let format = ImageFormat::from_path(path)?;
+    let tmp = temp_path(path);
+    let result = write_format(&tmp, format, image).and_then(|_| {
+        std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.with_context(|| format!("writing {}", path.display()))
+}
+
+fn write_format(path: &Path, format: ImageFormat, image: &Image) -> Result<()> {
+    match format {
+        ImageFormat::Png => {
+            let bytes: Vec<u8> = image
+                .pixels
+                .iter()
+                .flat_map(|p| p.map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8))
+                .collect();
+            let buf = image::RgbImage::from_raw(image.width, image.height, bytes).ok_or_else(|| anyhow!("image size mismatch"))?;
+            buf.save_with_format(path, image::ImageFormat::Png)?;
+        }
+        ImageFormat::Exr => {
+            let data: Vec<f32> = image.pixels.iter().flatten().copied().collect();
+            let buf = image::Rgb32FImage::from_raw(image.width, image.height, data).ok_or_else(|| anyhow!("image size mismatch"))?;
+            image::DynamicImage::ImageRgb32F(buf).save_with_format(path, image::ImageFormat::OpenExr)?;
+        }
+        ImageFormat::Pfm => {
+            let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+            // Colour PFM, little-endian (negative scale). PFM stores the bottom row first.
+            write!(f, "PF\n{} {}\n-1.0\n", image.width, image.height)?;
+            for y in (0..image.height).rev() {
+                for x in 0..image.width {
+                    for c in image.get(x, y) {
+                        f.write_all(&c.to_le_bytes())?;
+                    }
+                }
+            }
+            f.flush()?;
+        }
+    }
+    Ok(())
+}
+
+/// Reads a `.png` (decoded from sRGB to linear), `.exr` or `.pfm`.
+pub fn read_image(path: &Path) -> Result<Image> {
+    let format = ImageFormat::from_path(path)?;
+    let ctx = || format!("reading {}", path.display());
+    match format {
+        ImageFormat::Pfm => read_pfm(path).with_context(ctx),
+        ImageFormat::Png | ImageFormat::Exr => {
+            let img = image::open(path).with_context(ctx)?;
+            let linear = format == ImageFormat::Exr;
+            let rgb = img.to_rgb32f();
+            let (width, height) = rgb.dimensions();
+            let pixels = rgb
+                .pixels()
+                .map(|p| if linear { p.0 } else { p.0.map(srgb_to_linear) })
+                .collect();
+            Ok(Image { width, height, pixels })
+        }
+    }
+}
+
+/// sRGB-encoded to linear (IEC 61966-2-1).
+pub fn srgb_to_linear(x: f32) -> f32 {
+    if x <= 0.04045 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) }
+}
+
+fn read_pfm(path: &Path) -> Result<Image> {
+    let data = std::fs::read(path)?;
+    // Header: three whitespace-separated tokens after the magic, then one whitespace byte.
+    let mut fields = Vec::new();
+    let mut pos = 0;
+    while fields.len() < 4 {
+        while pos < data.len() && data[pos].is_ascii_whitespace() {
+            pos += 1;
+        }
+        let start = pos;
+        while pos < data.len() && !data[pos].is_ascii_whitespace() {
+            pos += 1;
+        }
+        if start == pos {
+            bail!("truncated PFM header");
+        }
+        fields.push(String::from_utf8_lossy(&data[start..pos]).into_owned());
+    }
+    pos += 1;
+    if fields[0] != "PF" {
+        bail!("not a colour PFM (magic {:?})", fields[0]);
+    }
+    let width: u32 = fields[1].parse().context("PFM width")?;
+    let height: u32 = fields[2].parse().context("PFM height")?;
+    let scale: f32 = fields[3].parse().context("PFM scale")?;
+    let little = scale < 0.0;
+    let count = width as usize * height as usize * 3;
+    let body = data.get(pos..pos + count * 4).ok_or_else(|| anyhow!("truncated PFM data"))?;
+    let floats: Vec<f32> = body
+        .chunks_exact(4)
+        .map(|b| {
+            let a = [b[0], b[1], b[2], b[3]];
+            if little { f32::from_le_bytes(a) } else { f32::from_be_bytes(a) }
+        })
+        .collect();
+    let mut image = Image::new(width, height);
+    for y in 0..height as usize {
+        let src_row = height as usize - 1 - y;
+        for x in 0..width as usize {
+            let i = (src_row * width as usize + x) * 3;
+            image.pixels[y * width as usize + x] = [floats[i], floats[i + 1], floats[i + 2]];
+        }
+    }
+    Ok(image)
+}

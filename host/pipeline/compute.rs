@@ -1,0 +1,158 @@
+//! A compute pipeline with one descriptor set of buffers and a push-constant block.
+
+use crate::gpu::{Buffer, Context};
+use anyhow::{anyhow, Context as _, Result};
+use ash::vk;
+
+/// What a binding holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BindingKind {
+    Storage,
+    Uniform,
+}
+
+impl BindingKind {
+    fn vk(self) -> vk::DescriptorType {
+        match self {
+            BindingKind::Storage => vk::DescriptorType::STORAGE_BUFFER,
+            BindingKind::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
+        }
+    }
+}
+
+/// A compute pipeline and the one descriptor set it uses; all freed on drop.
+pub struct ComputePipeline<'a> {
+    ctx: &'a Context,
+    name: String,
+    module: vk::ShaderModule,
+    set_layout: vk::DescriptorSetLayout,
+    layout: vk::PipelineLayout,
+    pipeline: vk::Pipeline,
+    pool: vk::DescriptorPool,
+    set: vk::DescriptorSet,
+    bindings: Vec<(u32, BindingKind)>,
+    push_size: u32,
+}
+
+impl<'a> ComputePipeline<'a> {
+    /// Builds the pipeline for `spv` (entry point `main`) with the given bindings (set 0) and
+    /// `push_size` bytes of push constants.
+    pub fn new(ctx: &'a Context, name: &str, spv: &[u8], bindings: &[(u32, BindingKind)], push_size: u32) -> Result<Self> {
+        let dev = &ctx.device;
+        let code = crate::pipeline::shaders::words(spv).with_context(|| format!("shader '{name}'"))?;
+        let mut p = Self {
+            ctx,
+            name: name.to_string(),
+            module: vk::ShaderModule::null(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            pipeline: vk::Pipeline::null(),
+            pool: vk::DescriptorPool::null(),
+            set: vk::DescriptorSet::null(),
+            bindings: bindings.to_vec(),
+            push_size,
+        };
+        // SAFETY: each object is stored in `p` as soon as it exists, so Drop frees whatever was
+        // made if a later step fails.
+        unsafe {
+            p.module = dev
+                .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
+                .with_context(|| format!("vkCreateShaderModule '{name}'"))?;
+            let layout_bindings: Vec<vk::DescriptorSetLayoutBinding> = bindings
+                .iter()
+                .map(|&(b, kind)| {
+                    vk::DescriptorSetLayoutBinding::default()
+                        .binding(b)
+                        .descriptor_type(kind.vk())
+                        .descriptor_count(1)
+                        .stage_flags(vk::ShaderStageFlags::COMPUTE)
+                })
+                .collect();
+            p.set_layout = dev
+                .create_descriptor_set_layout(&vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings), None)
+                .with_context(|| format!("vkCreateDescriptorSetLayout '{name}'"))?;
+            let ranges = [vk::PushConstantRange::default().stage_flags(vk::ShaderStageFlags::COMPUTE).offset(0).size(push_size)];
+            let set_layouts = [p.set_layout];
+            let mut layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+            if push_size > 0 {
+                layout_info = layout_info.push_constant_ranges(&ranges);
+            }
+            p.layout = dev.create_pipeline_layout(&layout_info, None).with_context(|| format!("vkCreatePipelineLayout '{name}'"))?;
+            let stage = vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::COMPUTE)
+                .module(p.module)
+                .name(c"main");
+            let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(p.layout)];
+            p.pipeline = dev
+                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+                .map_err(|(_, e)| anyhow!("vkCreateComputePipelines '{name}': {e}"))?[0];
+            let storage = bindings.iter().filter(|b| b.1 == BindingKind::Storage).count() as u32;
+            let uniform = bindings.len() as u32 - storage;
+            let mut sizes = Vec::new();
+            if storage > 0 {
+                sizes.push(vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: storage });
+            }
+            if uniform > 0 {
+                sizes.push(vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: uniform });
+            }
+            p.pool = dev
+                .create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
+                .with_context(|| format!("vkCreateDescriptorPool '{name}'"))?;
+            p.set = dev
+                .allocate_descriptor_sets(&vk::DescriptorSetAllocateInfo::default().descriptor_pool(p.pool).set_layouts(&set_layouts))
+                .with_context(|| format!("vkAllocateDescriptorSets '{name}'"))?[0];
+        }
+        Ok(p)
+    }
+
+    /// Points binding `binding` at `buffer` (whole buffer). Must not be called while a
+    /// submission using this pipeline is in flight (vkrt always waits).
+    pub fn bind(&self, binding: u32, buffer: &Buffer) -> Result<()> {
+        let kind = self
+            .bindings
+            .iter()
+            .find(|b| b.0 == binding)
+            .map(|b| b.1)
+            .ok_or_else(|| anyhow!("pipeline '{}' has no binding {binding}", self.name))?;
+        let info = [vk::DescriptorBufferInfo { buffer: buffer.buffer, offset: 0, range: vk::WHOLE_SIZE }];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(kind.vk())
+            .buffer_info(&info)];
+        // SAFETY: the set is not in use by a pending submission.
+        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        Ok(())
+    }
+
+    /// Records: bind pipeline and set, push `push`, dispatch `groups`.
+    pub fn record_dispatch(&self, cmd: vk::CommandBuffer, push: &[u8], groups: [u32; 3]) {
+        let dev = &self.ctx.device;
+        // SAFETY: `cmd` is recording; push size matches the layout (checked by debug assert
+        // and by the validation layers in tests).
+        debug_assert_eq!(push.len() as u32, self.push_size);
+        unsafe {
+            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            dev.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout, 0, &[self.set], &[]);
+            if !push.is_empty() {
+                dev.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
+            }
+            dev.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
+        }
+    }
+}
+
+impl Drop for ComputePipeline<'_> {
+    fn drop(&mut self) {
+        let dev = &self.ctx.device;
+        // SAFETY: no submission using these objects is pending (vkrt waits for each); null
+        // handles are ignored by the destroy calls.
+        unsafe {
+            dev.destroy_descriptor_pool(self.pool, None);
+            dev.destroy_pipeline(self.pipeline, None);
+            dev.destroy_pipeline_layout(self.layout, None);
+            dev.destroy_descriptor_set_layout(self.set_layout, None);
+            dev.destroy_shader_module(self.module, None);
+        }
+    }
+}

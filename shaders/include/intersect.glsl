@@ -1,0 +1,87 @@
+// Ray-box and ray-triangle tests. CPU twin: host/layout/cpu_trace.rs (same names).
+#ifndef VKRT_INTERSECT_GLSL
+#define VKRT_INTERSECT_GLSL
+
+// Ize 2013, "Robust BVH ray traversal": the far slab distance times 1 + 2*gamma(3) makes the
+// float slab test conservative. Value: cpu_trace::SLAB_FAR_PAD.
+const float SLAB_FAR_PAD = 1.0000003576278687;
+const float FLOAT_MAX = 3.4028234663852886e38;
+
+struct RayPre {
+    vec3 origin;
+    vec3 inv_dir;
+    float tmin;
+    int kx;
+    int ky;
+    int kz;
+    vec3 shear;
+};
+
+// 1/d, with 0 mapped to the largest float of the same sign: an origin on a slab plane then
+// gives 0 * MAX = 0 instead of 0 * inf = NaN, and the slab counts as entered.
+float safe_reciprocal(float d) {
+    return d == 0.0 ? ((floatBitsToUint(d) >> 31) != 0u ? -FLOAT_MAX : FLOAT_MAX) : 1.0 / d;
+}
+
+RayPre ray_pre(vec3 origin, vec3 dir, float tmin) {
+    RayPre r;
+    r.origin = origin;
+    r.inv_dir = vec3(safe_reciprocal(dir.x), safe_reciprocal(dir.y), safe_reciprocal(dir.z));
+    r.tmin = tmin;
+    vec3 a = abs(dir);
+    r.kz = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
+    r.kx = (r.kz + 1) % 3;
+    r.ky = (r.kx + 1) % 3;
+    // Swapping kx and ky when the dominant component is negative keeps the winding
+    // (Woop, Benthin & Wald 2013, sec. 3).
+    if (dir[r.kz] < 0.0) { int t = r.kx; r.kx = r.ky; r.ky = t; }
+    r.shear = vec3(dir[r.kx] / dir[r.kz], dir[r.ky] / dir[r.kz], 1.0 / dir[r.kz]);
+    return r;
+}
+
+// Entry distance if the ray overlaps the box within [tmin, tmax], else -1 with `hit` false.
+// Any NaN makes the final comparison false: a miss.
+bool intersect_box(RayPre r, vec3 bmin, vec3 bmax, float tmax, out float t_enter) {
+    precise vec3 t0 = (bmin - r.origin) * r.inv_dir;
+    precise vec3 t1 = (bmax - r.origin) * r.inv_dir;
+    vec3 near = min(t0, t1);
+    vec3 far = max(t0, t1);
+    t_enter = max(max(max(near.x, near.y), near.z), r.tmin);
+    precise float t_exit = min(min(min(far.x, far.y), far.z), tmax) * SLAB_FAR_PAD;
+    return t_enter <= t_exit;
+}
+
+// Watertight ray/triangle test (Woop, Benthin & Wald 2013, JCGT 2(1)). `precise` forbids
+// fused multiply-add, so the edge functions of a shared edge are exact negations of each other
+// and no ray passes between two triangles; an edge value of exactly 0 is inside for both.
+// On a hit with tmin < t < tmax: returns true, t, and the barycentrics (u, v) of v1 and v2.
+bool intersect_triangle(RayPre r, vec3 v0, vec3 v1, vec3 v2, float tmax, out float t, out float u, out float v) {
+    precise vec3 a = v0 - r.origin;
+    precise vec3 b = v1 - r.origin;
+    precise vec3 c = v2 - r.origin;
+    precise float ax = a[r.kx] - r.shear.x * a[r.kz];
+    precise float ay = a[r.ky] - r.shear.y * a[r.kz];
+    precise float bx = b[r.kx] - r.shear.x * b[r.kz];
+    precise float by = b[r.ky] - r.shear.y * b[r.kz];
+    precise float cx = c[r.kx] - r.shear.x * c[r.kz];
+    precise float cy = c[r.ky] - r.shear.y * c[r.kz];
+    precise float e0 = cx * by - cy * bx;
+    precise float e1 = ax * cy - ay * cx;
+    precise float e2 = bx * ay - by * ax;
+    t = 0.0; u = 0.0; v = 0.0;
+    if ((e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0)) return false;
+    precise float det = e0 + e1 + e2;
+    if (det == 0.0 || isnan(det)) return false;
+    precise float az = r.shear.z * a[r.kz];
+    precise float bz = r.shear.z * b[r.kz];
+    precise float cz = r.shear.z * c[r.kz];
+    precise float t_scaled = e0 * az + e1 * bz + e2 * cz;
+    precise float inv_det = 1.0 / det;
+    t = t_scaled * inv_det;
+    if (!(t > r.tmin && t < tmax)) return false;
+    u = e1 * inv_det;
+    v = e2 * inv_det;
+    return true;
+}
+
+#endif

@@ -1,0 +1,106 @@
+// Mirror of host/layout/mod.rs: same structs, same field names, same order.
+// tests/layout.rs checks every offset, size and stride here against the Rust side.
+#ifndef VKRT_LAYOUT_GLSL
+#define VKRT_LAYOUT_GLSL
+
+struct GpuNode {
+    vec3 bmin;
+    uint escape;
+    vec3 bmax;
+    uint leaf;
+};
+
+struct GpuTriangle {
+    vec3 v0;
+    uint prim;
+    vec3 v1;
+    uint _pad0;
+    vec3 v2;
+    uint _pad1;
+};
+
+struct GpuShading {
+    vec3 n0;
+    uint material;
+    vec3 n1;
+    uint _pad0;
+    vec3 n2;
+    uint _pad1;
+};
+
+struct GpuMaterial {
+    vec3 diffuse;
+    uint flags;
+    vec3 specular;
+    float shininess;
+    vec3 emission;
+    float ior;
+};
+
+struct GpuLight {
+    vec3 position;
+    uint kind;
+    vec3 direction;
+    float radius;
+    vec3 intensity;
+    uint _pad0;
+};
+
+struct GpuEmitter {
+    vec3 v0;
+    uint prim;
+    vec3 v1;
+    float area;
+    vec3 v2;
+    uint _pad0;
+    vec3 radiance;
+    uint _pad1;
+};
+
+struct GpuFrame {
+    vec3 cam_origin;
+    float tan_half_fov_y;
+    vec3 cam_forward;
+    float aspect;
+    vec3 cam_right;
+    uint width;
+    vec3 cam_up;
+    uint height;
+    vec3 ambient;
+    uint max_depth;
+    uint light_count;
+    uint emitter_count;
+    uint seed;
+    float scene_scale;
+};
+
+struct GpuPush {
+    uint tile_x;
+    uint tile_y;
+    uint sample_base;
+    uint sample_count;
+    uint total_spp;
+    uint ray_count;
+    uint any_hit;
+    uint _pad0;
+};
+
+struct GpuRay {
+    vec3 origin;
+    float tmin;
+    vec3 direction;
+    float tmax;
+};
+
+struct GpuHit {
+    float t;
+    uint prim;
+    float u;
+    float v;
+    uint nodes_visited;
+    uint tris_tested;
+    uint _pad0;
+    uint _pad1;
+};
+
+#endif

@@ -1,0 +1,21 @@
+#version 460
+// Declares every GPU struct and binding so tests/layout.rs can read their offsets, sizes,
+// strides and binding numbers from one SPIR-V module. Never dispatched.
+#extension GL_GOOGLE_include_directive : require
+
+#include "scene_bindings.glsl"
+
+layout(local_size_x = 1) in;
+
+layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
+layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
+layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer Hits { GpuHit hits[]; };
+
+void main() {
+    // Touch every binding so the compiler keeps it.
+    float s = nodes[0].bmin.x + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
+            + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
+            + float(push.tile_x);
+    accum[0] = vec4(s);
+    hits[0].t = s;
+}

@@ -1,0 +1,31 @@
+#version 460
+// Batch ray queries: one invocation per ray, closest or any hit, with traversal counters.
+// Used by the GPU agreement tests and by tools that compare BVH layouts.
+#extension GL_GOOGLE_include_directive : require
+
+#include "bvh_bindings.glsl"
+#include "intersect.glsl"
+#include "traverse.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE_1D) in;
+
+layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
+layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer Hits { GpuHit hits[]; };
+layout(push_constant) uniform Push { GpuPush push; };
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= push.ray_count) return;
+    GpuRay ray = rays[i];
+    Hit h = trace_threaded(ray.origin, ray.direction, ray.tmin, ray.tmax, push.any_hit != 0u);
+    GpuHit out_hit;
+    out_hit.t = h.t;
+    out_hit.prim = h.prim;
+    out_hit.u = h.u;
+    out_hit.v = h.v;
+    out_hit.nodes_visited = h.nodes_visited;
+    out_hit.tris_tested = h.tris_tested;
+    out_hit._pad0 = 0u;
+    out_hit._pad1 = 0u;
+    hits[i] = out_hit;
+}

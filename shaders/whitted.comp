@@ -1,0 +1,165 @@
+#version 460
+// Whitted-style ray tracing (Whitted 1980): ambient + Blinn-Phong direct light with hard
+// shadows, mirror reflection weighted by Ks, and Fresnel-weighted reflection and refraction
+// through dielectrics. The recursive ray tree is walked with a small explicit stack.
+// One invocation per pixel of a tile; each dispatch adds push.sample_count samples to accum.
+#extension GL_GOOGLE_include_directive : require
+
+#include "scene_bindings.glsl"
+#include "intersect.glsl"
+#include "traverse.glsl"
+#include "rng.glsl"
+#include "camera.glsl"
+#include "offset.glsl"
+#include "surface.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
+
+layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
+
+const float PI = 3.14159265358979;
+
+// Barycentric sample points on an emissive triangle: the centroids of its four midpoint
+// sub-triangles, each standing for a quarter of its area (WHITTED_EMITTER_SAMPLES = 4).
+const vec3 EMITTER_SAMPLE_BARY[4] = vec3[4](
+    vec3(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0),
+    vec3(2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0),
+    vec3(1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0),
+    vec3(1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0));
+
+// Blinn-Phong response to light arriving from unit direction l with "scaled irradiance" e
+// (see scene::Light for the units of each light kind).
+vec3 blinn_phong(GpuMaterial m, Surface s, vec3 view, vec3 l, vec3 e) {
+    float n_dot_l = dot(s.ns, l);
+    if (n_dot_l <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
+    vec3 h = normalize(l + view);
+    float spec = pow(max(dot(s.ns, h), 0.0), m.shininess);
+    return (m.diffuse * n_dot_l + m.specular * spec) * e;
+}
+
+vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
+    vec3 result = frame.ambient * m.diffuse;
+    vec3 origin = offset_ray(s.p, s.ng, frame.scene_scale);
+    for (uint i = 0u; i < frame.light_count; i++) {
+        GpuLight light = lights[i];
+        vec3 l;
+        vec3 e;
+        float dist;
+        if (light.kind == LIGHT_DIRECTIONAL) {
+            l = light.direction;
+            e = light.intensity;
+            dist = 1.0 / 0.0;
+        } else {
+            vec3 to_light = light.position - s.p;
+            float d2 = dot(to_light, to_light);
+            dist = sqrt(d2);
+            l = to_light / dist;
+            e = light.intensity / d2;
+            if (light.kind == LIGHT_SPOT) {
+                // intensity * 4 pi r^2 * cos / d^2, over pi (scene::Light).
+                e *= 4.0 * light.radius * light.radius * max(dot(light.direction, -l), 0.0);
+            }
+        }
+        if (dot(s.ng, l) <= 0.0 || all(equal(e, vec3(0.0)))) continue;
+        if (occluded(origin, l, 0.0, dist)) continue;
+        result += blinn_phong(m, s, view, l, e);
+    }
+    for (uint i = 0u; i < frame.emitter_count; i++) {
+        GpuEmitter em = emitters[i];
+        vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
+        for (uint k = 0u; k < WHITTED_EMITTER_SAMPLES; k++) {
+            vec3 b = EMITTER_SAMPLE_BARY[k];
+            vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
+            vec3 to_light = q - s.p;
+            float d2 = dot(to_light, to_light);
+            vec3 l = to_light * inversesqrt(d2);
+            float cos_light = dot(en, -l);
+            // Emitters emit from their front face only.
+            if (cos_light <= 0.0 || dot(s.ng, l) <= 0.0) continue;
+            // Radiance * area * cos / d^2 is the irradiance of this piece, over pi (scene::Light).
+            vec3 e = em.radiance * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
+            // Shadow ray between the two offset points, so neither surface occludes itself.
+            vec3 target = offset_ray(q, -en, frame.scene_scale);
+            vec3 span = target - origin;
+            if (trace_threaded(origin, span, 0.0, 1.0, true).prim != PRIM_NONE) continue;
+            result += blinn_phong(m, s, view, l, e);
+        }
+    }
+    return result;
+}
+
+// Fresnel reflectance of a smooth dielectric for unpolarised light; eta = n_incident / n_transmitted.
+float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
+    float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
+    if (sin2_t >= 1.0) { cos_t = 0.0; return 1.0; }
+    cos_t = sqrt(1.0 - sin2_t);
+    float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+struct Task {
+    vec3 origin;
+    vec3 dir;
+    vec3 weight;
+    uint depth;
+};
+
+vec3 whitted(vec3 origin, vec3 dir) {
+    Task stack[WHITTED_STACK_SIZE];
+    uint sp = 0u;
+    stack[sp++] = Task(origin, dir, vec3(1.0), 0u);
+    vec3 color = vec3(0.0);
+    while (sp > 0u) {
+        Task task = stack[--sp];
+        Hit h = trace_threaded(task.origin, task.dir, 0.0, 1.0 / 0.0, false);
+        if (h.prim == PRIM_NONE) continue;
+        Surface s = surface_at(h, task.dir);
+        GpuMaterial m = materials[s.material];
+        vec3 view = -task.dir;
+        if (s.front) color += task.weight * m.emission;
+        color += task.weight * direct_light(m, s, view);
+        // A path of max_depth rays ends here; the stack holds at most one task per level plus
+        // one sibling, so max_depth < WHITTED_STACK_SIZE (clamped on the host) cannot overflow.
+        if (task.depth + 1u >= frame.max_depth) continue;
+        vec3 reflected = reflect(task.dir, s.ns);
+        if (dot(reflected, s.ng) <= 0.0) reflected = reflect(task.dir, s.ng);
+        if ((m.flags & MATERIAL_DIELECTRIC) != 0u) {
+            float eta = s.front ? 1.0 / m.ior : m.ior;
+            float cos_i = dot(view, s.ns);
+            float cos_t;
+            float f = fresnel_dielectric(cos_i, eta, cos_t);
+            vec3 refracted = eta * task.dir + (eta * cos_i - cos_t) * s.ns;
+            stack[sp++] = Task(offset_ray(s.p, s.ng, frame.scene_scale), reflected, task.weight * f, task.depth + 1u);
+            if (f < 1.0 && dot(refracted, s.ng) < 0.0) {
+                stack[sp++] = Task(offset_ray(s.p, -s.ng, frame.scene_scale), normalize(refracted),
+                                   task.weight * (1.0 - f), task.depth + 1u);
+            }
+        } else if ((m.flags & MATERIAL_MIRROR) != 0u) {
+            stack[sp++] = Task(offset_ray(s.p, s.ng, frame.scene_scale), reflected, task.weight * m.specular, task.depth + 1u);
+        }
+    }
+    return color;
+}
+
+void main() {
+    uvec2 pixel = uvec2(push.tile_x, push.tile_y) + gl_GlobalInvocationID.xy;
+    if (pixel.x >= frame.width || pixel.y >= frame.height) return;
+    uint index = pixel.y * frame.width + pixel.x;
+    vec3 sum = vec3(0.0);
+    float dropped = 0.0;
+    for (uint k = 0u; k < push.sample_count; k++) {
+        uint sample_index = push.sample_base + k;
+        vec2 jitter = vec2(0.5);
+        if (push.total_spp > 1u) {
+            Rng rng = rng_init(index, sample_index, frame.seed);
+            jitter = vec2(rng_next(rng), rng_next(rng));
+        }
+        vec3 dir = camera_ray_direction(frame, vec2(pixel) + jitter);
+        vec3 c = whitted(frame.cam_origin, dir);
+        // NaN and Inf never enter the accumulation buffer: count them instead.
+        if (any(isnan(c)) || any(isinf(c))) dropped += 1.0;
+        else sum += c;
+    }
+    accum[index] += vec4(sum, dropped);
+}
