@@ -1,0 +1,67 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use vkrt::gpu::{Context, ContextOptions, Validation};
+
+/// A Vulkan context for tests: the device from `VKRT_DEVICE` (default: the best one, lavapipe on
+/// CI), with the validation layers on whenever they are installed.
+pub fn gpu_context() -> Context {
+    let mut options = ContextOptions::from_env();
+    options.validation.get_or_insert(Validation::IfAvailable);
+    Context::new(&options).expect("a Vulkan device (run tools/ensure-deps.sh)")
+}
+
+/// Fails the test if the validation layers said anything.
+pub fn assert_no_validation_messages(ctx: &Context) {
+    let messages = ctx.validation_messages();
+    assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
+}
+
+/// A path in the repository.
+pub fn repo_path(rel: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// A path in the shared data folder beside the repository.
+pub fn shared_path(rel: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared").join(rel)
+}
+
+/// A scratch folder under target/ for files a test writes (kept for inspection on failure).
+pub fn scratch_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output").join(name);
+    std::fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}
+
+/// A small deterministic generator (PCG32, O'Neill 2014) so tests need no seeding crate.
+pub struct Pcg(u64);
+
+impl Pcg {
+    pub fn new(seed: u64) -> Self {
+        let mut p = Pcg(seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407));
+        p.next_u32();
+        p
+    }
+    pub fn next_u32(&mut self) -> u32 {
+        let old = self.0;
+        self.0 = old.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
+        let rot = (old >> 59) as u32;
+        xorshifted.rotate_right(rot)
+    }
+    /// Uniform in [0, 1).
+    pub fn f32(&mut self) -> f32 {
+        (self.next_u32() >> 8) as f32 / 16777216.0
+    }
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.f32()
+    }
+    /// A uniformly distributed unit vector.
+    pub fn unit_vector(&mut self) -> glam::Vec3 {
+        let z = self.range(-1.0, 1.0);
+        let phi = self.range(0.0, std::f32::consts::TAU);
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        glam::Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}

@@ -1,0 +1,181 @@
+//! The agreement chain: brute force == BVH tree walk == flat CPU twin == GPU traversal, for
+//! every builder, on random triangle soups, the Cornell box and axis-parallel rays.
+//! Same primitive id; t within 1e-5 relative.
+
+mod common;
+
+use common::{gpu_context, Pcg};
+use glam::Vec3;
+use vkrt::bvh::{self, BuildConfig, BuilderKind, Bvh, NodeKind};
+use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+use vkrt::integrator::ray_query::trace_rays;
+use vkrt::layout::constants::PRIM_NONE;
+use vkrt::layout::cpu_trace::{self, RayPre};
+use vkrt::layout::{GpuHit, GpuRay};
+use vkrt::scene::{Scene, Triangle};
+
+const BUILDERS: [BuilderKind; 2] = [BuilderKind::Median, BuilderKind::Sah];
+const T_TOLERANCE: f32 = 1e-5;
+
+/// Closest hit by walking the `Bvh` node tree (before flattening), nearest child first.
+fn tree_walk(bvh: &Bvh, tris: &[Triangle], ray: &GpuRay) -> GpuHit {
+    let r = RayPre::new(ray);
+    let mut best = cpu_trace::miss();
+    let mut tmax = ray.tmax;
+    if bvh.nodes.is_empty() {
+        return best;
+    }
+    let mut stack = vec![0u32];
+    while let Some(i) = stack.pop() {
+        let node = &bvh.nodes[i as usize];
+        if cpu_trace::intersect_box(&r, node.bounds.min, node.bounds.max, tmax).is_none() {
+            continue;
+        }
+        match node.kind {
+            NodeKind::Interior { left, right } => {
+                stack.push(right);
+                stack.push(left);
+            }
+            NodeKind::Leaf { first, count } => {
+                for &prim in &bvh.prim_indices[first as usize..(first + count) as usize] {
+                    let t = &tris[prim as usize];
+                    if let Some(h) = cpu_trace::intersect_triangle(&r, t.p[0], t.p[1], t.p[2], tmax) {
+                        tmax = h.t;
+                        best = GpuHit { t: h.t, prim, u: h.u, v: h.v, ..best };
+                    }
+                }
+            }
+        }
+    }
+    best
+}
+
+fn assert_same_hit(what: &str, ray: &GpuRay, expected: &GpuHit, got: &GpuHit) {
+    assert_eq!(
+        expected.prim, got.prim,
+        "{what}: primitive differs for ray {ray:?}: expected {expected:?}, got {got:?}"
+    );
+    if expected.prim != PRIM_NONE {
+        let rel = (expected.t - got.t).abs() / expected.t.abs().max(f32::MIN_POSITIVE);
+        assert!(rel <= T_TOLERANCE, "{what}: t differs by {rel:e} relative for ray {ray:?}: {expected:?} vs {got:?}");
+    }
+}
+
+fn ray(origin: Vec3, dir: Vec3) -> GpuRay {
+    GpuRay { origin: origin.to_array(), tmin: 0.0, direction: dir.to_array(), tmax: f32::INFINITY }
+}
+
+/// Rays of three kinds: aimed at random points on random triangles (they mostly hit), random
+/// origins and directions in the bounds, and axis-parallel rays (zero direction components).
+fn test_rays(scene: &Scene, n: usize, seed: u64) -> Vec<GpuRay> {
+    let mut rng = Pcg::new(seed);
+    let b = scene.bounds();
+    let (lo, hi) = (b.min - 0.1 * b.extent(), b.max + 0.1 * b.extent());
+    let mut rays = Vec::with_capacity(n);
+    let point = |rng: &mut Pcg| Vec3::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y), rng.range(lo.z, hi.z));
+    while rays.len() < n {
+        let origin = point(&mut rng);
+        match rays.len() % 3 {
+            0 => {
+                let t = &scene.triangles[(rng.next_u32() as usize) % scene.triangles.len()];
+                let (mut u, mut v) = (rng.f32(), rng.f32());
+                if u + v > 1.0 {
+                    (u, v) = (1.0 - u, 1.0 - v);
+                }
+                let target = t.p[0] + u * (t.p[1] - t.p[0]) + v * (t.p[2] - t.p[0]);
+                let d = (target - origin).normalize_or_zero();
+                if d != Vec3::ZERO {
+                    rays.push(ray(origin, d));
+                }
+            }
+            1 => rays.push(ray(origin, rng.unit_vector())),
+            _ => {
+                let axis = (rng.next_u32() % 3) as usize;
+                let mut d = Vec3::ZERO;
+                d[axis] = if rng.next_u32() % 2 == 0 { 1.0 } else { -1.0 };
+                rays.push(ray(origin, d));
+            }
+        }
+    }
+    rays
+}
+
+/// Runs the whole chain for `scene` with `rays`; returns how many rays hit.
+fn check_chain(name: &str, scene: &Scene, rays: &[GpuRay]) -> usize {
+    let ctx = gpu_context();
+    let mut hits = 0;
+    for builder in BUILDERS {
+        let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
+        let tree = bvh::build(builder, &boxes, &centroids, &BuildConfig::default());
+        let prepared = PreparedScene::new(scene, builder, &BuildConfig::default()).unwrap();
+        let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+        let gpu_hits = trace_rays(&ctx, &gpu, rays, false).unwrap();
+        let gpu_any = trace_rays(&ctx, &gpu, rays, true).unwrap();
+        hits = 0;
+        for (i, r) in rays.iter().enumerate() {
+            let what = format!("{name} {builder:?} ray {i}");
+            let brute = cpu_trace::brute_force(&scene.triangles, r);
+            let walked = tree_walk(&tree, &scene.triangles, r);
+            let twin = cpu_trace::trace(&prepared.flat.nodes, &prepared.flat.triangles, r, false);
+            assert_same_hit(&format!("{what}: tree walk vs brute force"), r, &brute, &walked);
+            assert_same_hit(&format!("{what}: flat twin vs brute force"), r, &brute, &twin);
+            assert_same_hit(&format!("{what}: GPU vs flat twin"), r, &twin, &gpu_hits[i]);
+            // The GPU counters are the twin's: same nodes, same order.
+            assert_eq!(twin.nodes_visited, gpu_hits[i].nodes_visited, "{what}: nodes visited");
+            assert_eq!(twin.tris_tested, gpu_hits[i].tris_tested, "{what}: triangles tested");
+            // Any-hit finds a hit exactly when there is one, and it is a real one.
+            let twin_any = cpu_trace::trace(&prepared.flat.nodes, &prepared.flat.triangles, r, true);
+            assert_eq!(twin_any.prim == PRIM_NONE, brute.prim == PRIM_NONE, "{what}: any-hit on CPU");
+            assert_eq!(twin_any.prim, gpu_any[i].prim, "{what}: any-hit GPU vs CPU");
+            hits += (brute.prim != PRIM_NONE) as usize;
+        }
+    }
+    common::assert_no_validation_messages(&ctx);
+    hits
+}
+
+#[test]
+fn random_soups_agree_along_the_chain() {
+    for (n, seed) in [(1usize, 1u64), (7, 2), (500, 3), (5000, 4)] {
+        let scene = vkrt::scene::procedural::random_soup(n, seed);
+        let rays = test_rays(&scene, 3000, seed + 100);
+        let hits = check_chain(&format!("soup {n}"), &scene, &rays);
+        // The aimed third of the rays nearly always hit: the test is not vacuous.
+        assert!(hits >= rays.len() / 4, "soup {n}: only {hits} of {} rays hit", rays.len());
+    }
+}
+
+#[test]
+fn cornell_box_agrees_along_the_chain() {
+    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.obj")).unwrap();
+    let rays = test_rays(&scene, 6000, 7);
+    let hits = check_chain("cornell", &scene, &rays);
+    assert!(hits >= rays.len() / 2, "cornell: only {hits} of {} rays hit", rays.len());
+}
+
+#[test]
+fn primary_rays_through_the_cornell_box_agree() {
+    // Camera rays through pixel centres, with exactly axis-parallel rays among them (the
+    // central column and row have zero components).
+    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.obj")).unwrap();
+    let frame = scene.camera.frame().unwrap();
+    let (w, h) = (33u32, 33u32);
+    let rays: Vec<GpuRay> = (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| ray(frame.origin, frame.ray_direction(i as f32 + 0.5, j as f32 + 0.5, w, h)))
+        .collect();
+    let hits = check_chain("cornell primary", &scene, &rays);
+    assert_eq!(hits, rays.len(), "every camera ray hits the closed box");
+}
+
+#[test]
+fn empty_scene_misses_everything() {
+    let scene = Scene::default();
+    let ctx = gpu_context();
+    let prepared = PreparedScene::new(&scene, BuilderKind::Sah, &BuildConfig::default()).unwrap();
+    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+    let rays = vec![ray(Vec3::ZERO, Vec3::X), ray(Vec3::ONE, -Vec3::Y)];
+    let hits = trace_rays(&ctx, &gpu, &rays, false).unwrap();
+    assert!(hits.iter().all(|h| h.prim == PRIM_NONE && h.t == f32::INFINITY));
+    common::assert_no_validation_messages(&ctx);
+}
