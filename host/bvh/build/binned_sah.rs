@@ -26,61 +26,126 @@
 
 use std::borrow::Cow;
 
-use glam::Vec3;
+use glam::{UVec3, Vec3, Vec3A};
 
 use crate::bvh::{Aabb, BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
 
 /// Fewer than 2 bins has no plane between bins; more than this buys nothing measurable and only
-/// grows the per-node scratch that must be cleared.
+/// grows the per-node scratch that must be cleared and swept.
 const MAX_BINS: u32 = 256;
 
-/// One node still to be built. Its box is already in `nodes[node].bounds` (the parent got it from
-/// the bins for free); `centroid_bounds` was gathered while partitioning the parent.
+/// A box in 16-byte lanes (`Vec3A` is SSE/NEON-backed), so a union is two SIMD min/max ops: the
+/// binning loop, the hottest in the build, does three per primitive per level.
+#[derive(Clone, Copy)]
+struct Box3 {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl Box3 {
+    const EMPTY: Box3 = Box3 {
+        min: Vec3A::INFINITY,
+        max: Vec3A::NEG_INFINITY,
+    };
+
+    fn union(self, o: Box3) -> Box3 {
+        Box3 {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+    fn grow(self, p: Vec3A) -> Box3 {
+        Box3 {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+    /// Surface area; 0 for the empty box (its negative extent is clamped away).
+    fn area(self) -> f32 {
+        let e = (self.max - self.min).max(Vec3A::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+    fn aabb(self) -> Aabb {
+        Aabb {
+            min: self.min.into(),
+            max: self.max.into(),
+        }
+    }
+}
+
+/// A primitive's box, centroid and id in one record (the layout of Embree's `PrimRef`).
+/// Partitioning moves the records themselves, not indices into `boxes`, so every pass over a node
+/// reads memory sequentially instead of gathering from all over the input.
+#[derive(Clone, Copy)]
+struct PrimRef {
+    bounds: Box3,
+    centroid: Vec3,
+    id: u32,
+}
+
+/// One node still to be built: `nodes[node]` covers `refs[begin..end]`. Its box is already in
+/// `nodes[node].bounds` (the parent got it from the bins for free); `centroid_bounds` was gathered
+/// while partitioning the parent.
 struct Task {
     node: u32,
     begin: usize,
     end: usize,
-    centroid_bounds: Aabb,
+    centroid_bounds: Box3,
 }
 
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
+    bounds: Box3,
     count: u32,
 }
 
 impl Bin {
     const EMPTY: Bin = Bin {
-        bounds: Aabb::EMPTY,
+        bounds: Box3::EMPTY,
         count: 0,
     };
-}
 
-/// Maps a centroid coordinate on one axis to its bin: floor((c - min) * scale), clamped to the last
-/// bin (Wald 2007, eq. 1). The scale is precomputed so binning is a subtract and a multiply.
-#[derive(Clone, Copy)]
-struct AxisBins {
-    min: f32,
-    scale: f32,
-    /// False when the centroids do not spread along this axis: no plane separates them there.
-    usable: bool,
-}
-
-impl AxisBins {
-    fn new(lo: f32, hi: f32, bins: usize) -> Self {
-        let extent = hi - lo;
-        let scale = bins as f32 / extent;
-        Self {
-            min: lo,
-            scale,
-            usable: extent > 0.0 && scale.is_finite(),
+    fn add(self, o: &Bin) -> Bin {
+        Bin {
+            bounds: self.bounds.union(o.bounds),
+            count: self.count + o.count,
         }
     }
+}
+
+/// Maps a centroid to its bin on each axis: floor((c - min) * scale), clamped to the last bin
+/// (Wald 2007, eq. 1). The scale is precomputed per node so binning is a subtract and a multiply
+/// for all three axes at once.
+struct Binning {
+    min: Vec3A,
+    scale: Vec3A,
+    last: UVec3,
+    /// False where the centroids do not spread along an axis: no plane separates them there.
+    /// Such an axis gets scale 0, so everything lands in bin 0 and the sweep skips it.
+    usable: [bool; 3],
+}
+
+impl Binning {
+    fn new(centroid_bounds: &Box3, bins: usize) -> Self {
+        let extent = centroid_bounds.max - centroid_bounds.min;
+        let scale = Vec3A::splat(bins as f32) / extent;
+        let usable = [0, 1, 2].map(|a| extent[a] > 0.0 && scale[a].is_finite());
+        let scale = Vec3A::from_array([0, 1, 2].map(|a| if usable[a] { scale[a] } else { 0.0 }));
+        Self {
+            min: centroid_bounds.min,
+            scale,
+            last: UVec3::splat(bins as u32 - 1),
+            usable,
+        }
+    }
+    /// Bin index on each axis. The binning pass and the partition both call this, so they agree
+    /// exactly on every primitive's side. `as` casts saturate (negatives and NaN become 0), and
+    /// the `min` folds the largest centroid, which lands exactly on `bins`, into the last bin.
     #[inline]
-    fn bin(&self, c: f32, last: usize) -> usize {
-        // `as usize` saturates (negatives and NaN become 0), and the `min` folds the maximum
-        // centroid, which lands exactly on `bins`, into the last bin.
-        (((c - self.min) * self.scale) as usize).min(last)
+    fn bins(&self, c: Vec3) -> UVec3 {
+        ((Vec3A::from(c) - self.min) * self.scale)
+            .as_uvec3()
+            .min(self.last)
     }
 }
 
@@ -88,13 +153,13 @@ impl AxisBins {
 struct Split {
     axis: usize,
     /// Primitives in bins `< bin` go left.
-    bin: usize,
+    bin: u32,
     /// A_L * N_L + A_R * N_R, i.e. the SAH cost's variable part without the division by A_parent.
     weighted_area: f32,
     /// |N_L - N_R|, the tie-breaker.
     imbalance: u32,
-    left: Aabb,
-    right: Aabb,
+    left: Box3,
+    right: Box3,
 }
 
 /// Scratch reused across nodes so the build allocates only its output.
@@ -118,7 +183,20 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
         return Bvh::default();
     }
     let centroids = matched_centroids(boxes, centroids, n);
-    let boxes = &boxes[..n];
+    // `n` fits in u32 (clamped above), so every index below does too.
+    let mut refs: Vec<PrimRef> = boxes
+        .iter()
+        .zip(centroids.iter())
+        .zip(0..n as u32)
+        .map(|((b, &centroid), id)| PrimRef {
+            bounds: Box3 {
+                min: b.min.into(),
+                max: b.max.into(),
+            },
+            centroid,
+            id,
+        })
+        .collect();
     let leaf_size = config.max_leaf_size.clamp(1, MAX_LEAF_SIZE) as usize;
     let bins = config.sah_bins.clamp(2, MAX_BINS) as usize;
     let mut binner = Binner {
@@ -127,12 +205,10 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
         suffix: vec![Bin::EMPTY; bins],
     };
 
-    // `n` fits in u32 (clamped above), so every index below does too.
-    let mut prims: Vec<u32> = (0..n as u32).collect();
-    let (root_bounds, root_centroids) = range_bounds(&prims, boxes, &centroids);
+    let (root_bounds, root_centroids) = range_bounds(&refs);
     let mut nodes = Vec::with_capacity(2 * n.div_ceil(leaf_size));
     nodes.push(Node {
-        bounds: root_bounds,
+        bounds: root_bounds.aabb(),
         kind: NodeKind::Leaf { first: 0, count: 0 },
     });
 
@@ -148,16 +224,10 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     while let Some(task) = stack.pop() {
         let bounds = nodes[task.node as usize].bounds;
         let count = task.end - task.begin;
-        let range = &mut prims[task.begin..task.end];
-        let axes = [0, 1, 2].map(|a| {
-            AxisBins::new(
-                task.centroid_bounds.min[a],
-                task.centroid_bounds.max[a],
-                bins,
-            )
-        });
+        let range = &mut refs[task.begin..task.end];
+        let binning = Binning::new(&task.centroid_bounds, bins);
         let split = if count > 1 {
-            binner.best_split(range, boxes, &centroids, &axes)
+            binner.best_split(range, &binning)
         } else {
             None
         };
@@ -176,15 +246,14 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
         let children = if make_leaf {
             None
         } else if let Some(s) = split {
-            let (mid, lc, rc) =
-                partition(range, &centroids, s.axis, &axes[s.axis], s.bin, bins - 1);
+            let (mid, lc, rc) = partition(range, &binning, s.axis, s.bin);
             Some((mid, s.left, lc, s.right, rc))
         } else {
             // Centroids coincide on every axis (or no plane separated them) and the node is too
             // big for a leaf: split by index in half, which keeps the depth logarithmic.
             let mid = count / 2;
-            let (lb, lc) = range_bounds(&range[..mid], boxes, &centroids);
-            let (rb, rc) = range_bounds(&range[mid..], boxes, &centroids);
+            let (lb, lc) = range_bounds(&range[..mid]);
+            let (rb, rc) = range_bounds(&range[mid..]);
             Some((mid, lb, lc, rb, rc))
         };
 
@@ -195,13 +264,14 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
             },
             Some((mid, left_bounds, left_centroids, right_bounds, right_centroids)) => {
                 let left = nodes.len() as u32;
+                let placeholder = NodeKind::Leaf { first: 0, count: 0 };
                 nodes.push(Node {
-                    bounds: left_bounds,
-                    kind: NodeKind::Leaf { first: 0, count: 0 },
+                    bounds: left_bounds.aabb(),
+                    kind: placeholder,
                 });
                 nodes.push(Node {
-                    bounds: right_bounds,
-                    kind: NodeKind::Leaf { first: 0, count: 0 },
+                    bounds: right_bounds.aabb(),
+                    kind: placeholder,
                 });
                 let mid = task.begin + mid;
                 stack.push(Task {
@@ -226,57 +296,44 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     }
     Bvh {
         nodes,
-        prim_indices: prims,
+        prim_indices: refs.iter().map(|r| r.id).collect(),
     }
 }
 
 impl Binner {
-    /// Bin the primitives on every usable axis and sweep the K - 1 planes between bins; `None`
+    /// Bin the primitives and sweep the K - 1 planes between bins on every usable axis; `None`
     /// when no plane leaves primitives on both sides.
-    fn best_split(
-        &mut self,
-        prims: &[u32],
-        boxes: &[Aabb],
-        centroids: &[Vec3],
-        axes: &[AxisBins; 3],
-    ) -> Option<Split> {
+    fn best_split(&mut self, refs: &[PrimRef], binning: &Binning) -> Option<Split> {
         let k = self.bins;
-        let last = k - 1;
         self.grid.fill(Bin::EMPTY);
-        for &p in prims {
-            let (b, c) = (boxes[p as usize], centroids[p as usize]);
-            for (axis, map) in axes.iter().enumerate() {
-                if map.usable {
-                    let bin = &mut self.grid[axis * k + map.bin(c[axis], last)];
-                    bin.bounds = bin.bounds.union(&b);
-                    bin.count += 1;
-                }
+        for r in refs {
+            let b = binning.bins(r.centroid);
+            // All three axes, unusable ones included (they all land in bin 0): cheaper than a
+            // branch per axis in the hottest loop of the build.
+            for axis in 0..3 {
+                let bin = &mut self.grid[axis * k + b[axis] as usize];
+                bin.bounds = bin.bounds.union(r.bounds);
+                bin.count += 1;
             }
         }
 
         let mut best: Option<Split> = None;
-        for (axis, map) in axes.iter().enumerate() {
-            if !map.usable {
-                continue;
-            }
+        for axis in (0..3).filter(|&a| binning.usable[a]) {
             let grid = &self.grid[axis * k..(axis + 1) * k];
             // Right-to-left: suffix[i] = union of bins i.. ; then left-to-right, the plane before
             // bin i has bins ..i on the left and suffix[i] on the right.
             let mut acc = Bin::EMPTY;
             for (s, g) in self.suffix.iter_mut().zip(grid).rev() {
-                acc = Bin {
-                    bounds: acc.bounds.union(&g.bounds),
-                    count: acc.count + g.count,
-                };
+                acc = acc.add(g);
                 *s = acc;
             }
             let mut left = Bin::EMPTY;
-            for i in 1..k {
-                left = Bin {
-                    bounds: left.bounds.union(&grid[i - 1].bounds),
-                    count: left.count + grid[i - 1].count,
-                };
-                let right = self.suffix[i];
+            for (i, (g, right)) in grid.iter().zip(&self.suffix[1..]).enumerate() {
+                // After an empty bin the plane splits the same sets as the one before it.
+                if g.count == 0 {
+                    continue;
+                }
+                left = left.add(g);
                 if left.count == 0 || right.count == 0 {
                     continue;
                 }
@@ -291,9 +348,10 @@ impl Binner {
                     weighted_area < b.weighted_area
                         || (weighted_area == b.weighted_area && imbalance < b.imbalance)
                 }) {
+                    let bin = i as u32 + 1;
                     best = Some(Split {
                         axis,
-                        bin: i,
+                        bin,
                         weighted_area,
                         imbalance,
                         left: left.bounds,
@@ -306,29 +364,26 @@ impl Binner {
     }
 }
 
-/// Partition `prims` in place so primitives whose centroid falls in a bin `< split_bin` come
-/// first; returns the first right index and the left and right centroid bounds, gathered here so
-/// the children need no extra pass. Uses the same `AxisBins::bin` as the binning pass, so the
-/// counts agree with the ones the SAH was evaluated on.
+/// Partition `refs` in place so primitives whose centroid falls in a bin `< split_bin` on `axis`
+/// come first; returns the first right index and the left and right centroid bounds, gathered
+/// here so the children need no extra pass.
 fn partition(
-    prims: &mut [u32],
-    centroids: &[Vec3],
+    refs: &mut [PrimRef],
+    binning: &Binning,
     axis: usize,
-    map: &AxisBins,
-    split_bin: usize,
-    last: usize,
-) -> (usize, Aabb, Aabb) {
-    let (mut i, mut j) = (0, prims.len());
-    let (mut lc, mut rc) = (Aabb::EMPTY, Aabb::EMPTY);
+    split_bin: u32,
+) -> (usize, Box3, Box3) {
+    let (mut i, mut j) = (0, refs.len());
+    let (mut lc, mut rc) = (Box3::EMPTY, Box3::EMPTY);
     while i < j {
-        let c = centroids[prims[i] as usize];
-        if map.bin(c[axis], last) < split_bin {
-            lc = lc.grow(c);
+        let c = refs[i].centroid;
+        if binning.bins(c)[axis] < split_bin {
+            lc = lc.grow(c.into());
             i += 1;
         } else {
-            rc = rc.grow(c);
+            rc = rc.grow(c.into());
             j -= 1;
-            prims.swap(i, j);
+            refs.swap(i, j);
         }
     }
     (i, lc, rc)
@@ -344,8 +399,8 @@ fn matched_centroids<'a>(boxes: &[Aabb], centroids: &'a [Vec3], n: usize) -> Cow
 }
 
 /// Bounds of the primitives' boxes and of their centroids, in one pass.
-fn range_bounds(prims: &[u32], boxes: &[Aabb], centroids: &[Vec3]) -> (Aabb, Aabb) {
-    prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), &p| {
-        (b.union(&boxes[p as usize]), c.grow(centroids[p as usize]))
+fn range_bounds(refs: &[PrimRef]) -> (Box3, Box3) {
+    refs.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, c), r| {
+        (b.union(r.bounds), c.grow(r.centroid.into()))
     })
 }
