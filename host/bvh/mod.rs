@@ -7,6 +7,7 @@
 pub mod aabb;
 pub mod build;
 pub mod sah;
+pub mod stats;
 pub mod validate;
 
 pub use aabb::Aabb;
