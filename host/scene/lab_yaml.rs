@@ -1,1 +1,473 @@
-//! placeholder
+//! The course lab's YAML scene format (see `../shared/scenes/lab/SOURCE.md`).
+//!
+//! The document is walked by hand with a key path (`Lights[1].Position`) so that every error
+//! and warning says where it is: an unknown key is a warning (the file still loads), a wrong
+//! type or a missing file is an error. yaml-rust2 keeps no positions for nodes, so only YAML
+//! syntax errors carry a line and column.
+//!
+//! Triangle order (= primitive ids): `Models`, then `ComplexModels`, each in file order, then
+//! one triangle per `Area` light, so model ids do not depend on the light list.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use glam::Vec3;
+use yaml_rust2::yaml::Hash;
+use yaml_rust2::{Yaml, YamlLoader};
+
+use super::obj::{default_light, finish_scene, load_obj_meshes, push_triangles, warn};
+use super::{Camera, Light, Material, Scene, Triangle};
+use crate::error::InputError;
+
+const TOP_KEYS: &[&str] = &[
+    "Reflection",
+    "AmbientIntensity",
+    "Skyboxes",
+    "Cameras",
+    "Lights",
+    "Materials",
+    "Models",
+    "ComplexModels",
+];
+const CAMERA_KEYS: &[&str] = &["Eye", "Target", "Up", "Fovy", "ZNear", "ZFar"];
+const MATERIAL_KEYS: &[&str] =
+    &["Name", "Blend", "Diffuse", "DiffuseMap", "Specular", "Shininess", "Emission"];
+const MODEL_KEYS: &[&str] = &["Mesh", "Material", "Scale", "Translation"];
+const COMPLEX_MODEL_KEYS: &[&str] = &["Mesh"];
+
+/// Loads a lab YAML scene with the meshes it names.
+pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
+    let bytes =
+        std::fs::read(path).map_err(|e| InputError::new(path, None, format!("cannot read the file: {e}")))?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        let line = bytes.get(..e.valid_up_to()).map_or(1, |b| b.iter().filter(|&&c| c == b'\n').count() + 1);
+        InputError::at_line(path, line, "not UTF-8 text")
+    })?;
+    let docs = YamlLoader::load_from_str(text).map_err(|e| {
+        let m = e.marker();
+        InputError::new(
+            path,
+            Some(format!("line {}, column {}", m.line(), m.col() + 1)),
+            e.info().to_string(),
+        )
+    })?;
+    let mut lab = Lab {
+        file: path,
+        dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
+        scene: Scene::default(),
+    };
+    if docs.len() > 1 {
+        lab.warn_at(None, "only the first YAML document is read");
+    }
+    let empty = Yaml::Hash(Hash::new());
+    let root = match docs.first() {
+        None | Some(Yaml::Null) => &empty,
+        Some(doc) => doc,
+    };
+    let root = lab.hash(root, "(top level)")?;
+    lab.check_keys(root, "", TOP_KEYS);
+
+    if let Some(r) = get(root, "Reflection") {
+        let r = lab.string(r, "Reflection")?;
+        if r != "Empirical" {
+            lab.warn_at(Some("Reflection"), &format!("reflection model '{r}' is unknown; Empirical is used"));
+        }
+    }
+    let ambient = get(root, "AmbientIntensity").map(|a| lab.vec3(a, "AmbientIntensity")).transpose()?;
+    if let Some(s) = get(root, "Skyboxes") {
+        lab.list(s, "Skyboxes")?;
+        lab.warn_at(Some("Skyboxes"), "sky boxes are not yet supported; ignored");
+    }
+    let camera = match get(root, "Cameras") {
+        Some(c) => lab.cameras(c)?,
+        None => None,
+    };
+    let names = match get(root, "Materials") {
+        Some(m) => lab.materials(m)?,
+        None => HashMap::new(),
+    };
+    if let Some(m) = get(root, "Models") {
+        lab.models(m, &names)?;
+    }
+    if let Some(m) = get(root, "ComplexModels") {
+        lab.complex_models(m)?;
+    }
+    if let Some(l) = get(root, "Lights") {
+        lab.lights(l)?;
+    }
+
+    let mut scene = lab.scene;
+    finish_scene(&mut scene, path, camera)?;
+    scene.ambient = ambient.unwrap_or(Vec3::ZERO);
+    if scene.lights.is_empty() && scene.emissive_triangles().is_empty() {
+        let msg = "no lights and no emitting material; added a directional light over the camera's shoulder";
+        warn(&mut scene.stats, InputError::new(path, None, msg).to_string());
+        scene.lights.push(default_light(&scene.camera));
+        scene.ambient = ambient.unwrap_or(Vec3::splat(0.05));
+    }
+    Ok(scene)
+}
+
+/// The value under `name` in a mapping.
+fn get<'y>(h: &'y Hash, name: &str) -> Option<&'y Yaml> {
+    h.get(&Yaml::String(name.to_string()))
+}
+
+/// `parent.name`, or `name` at the top level.
+fn child(parent: &str, name: &str) -> String {
+    if parent.is_empty() {
+        name.to_string()
+    } else {
+        format!("{parent}.{name}")
+    }
+}
+
+/// How a value looks, for "expected X, found Y" messages.
+fn describe(y: &Yaml) -> String {
+    match y {
+        Yaml::Real(s) => format!("the number {s}"),
+        Yaml::Integer(i) => format!("the number {i}"),
+        Yaml::String(s) => format!("the string '{s}'"),
+        Yaml::Boolean(b) => format!("the boolean {b}"),
+        Yaml::Array(a) => format!("a list of {}", a.len()),
+        Yaml::Hash(_) => "a mapping".to_string(),
+        Yaml::Alias(_) => "an alias".to_string(),
+        Yaml::Null => "nothing (null)".to_string(),
+        Yaml::BadValue => "an invalid value".to_string(),
+    }
+}
+
+/// The scene being built, and where it comes from.
+struct Lab<'a> {
+    file: &'a Path,
+    dir: PathBuf,
+    scene: Scene,
+}
+
+impl Lab<'_> {
+    fn err(&self, key: &str, message: impl Into<String>) -> anyhow::Error {
+        InputError::at_key(self.file, key, message).into()
+    }
+
+    fn warn_at(&mut self, key: Option<&str>, message: &str) {
+        let e = InputError::new(self.file, key.map(|k| format!("key {k}")), message);
+        warn(&mut self.scene.stats, e.to_string());
+    }
+
+    /// Warns about every key of `h` not in `known`.
+    fn check_keys(&mut self, h: &Hash, path: &str, known: &[&str]) {
+        for k in h.keys() {
+            let name = match k {
+                Yaml::String(s) => s.clone(),
+                other => describe(other),
+            };
+            if !known.contains(&name.as_str()) {
+                self.warn_at(Some(&child(path, &name)), "unknown key, ignored");
+            }
+        }
+    }
+
+    fn hash<'y>(&self, y: &'y Yaml, key: &str) -> anyhow::Result<&'y Hash> {
+        y.as_hash()
+            .ok_or_else(|| self.err(key, format!("expected a mapping (Key: value), found {}", describe(y))))
+    }
+
+    fn list<'y>(&self, y: &'y Yaml, key: &str) -> anyhow::Result<&'y [Yaml]> {
+        y.as_vec()
+            .map(Vec::as_slice)
+            .ok_or_else(|| self.err(key, format!("expected a list, found {}", describe(y))))
+    }
+
+    fn string<'y>(&self, y: &'y Yaml, key: &str) -> anyhow::Result<&'y str> {
+        y.as_str().ok_or_else(|| self.err(key, format!("expected a string, found {}", describe(y))))
+    }
+
+    /// A number that is finite as an f32 (1e39 is not).
+    fn number(&self, y: &Yaml, key: &str) -> anyhow::Result<f32> {
+        let x = match y {
+            Yaml::Integer(i) => *i as f64,
+            Yaml::Real(_) => y.as_f64().unwrap_or(f64::NAN),
+            _ => return Err(self.err(key, format!("expected a number, found {}", describe(y)))),
+        };
+        let x32 = x as f32;
+        if !x32.is_finite() {
+            return Err(self.err(key, format!("{x} is not a finite f32 (NaN, infinite or beyond 3.4e38)")));
+        }
+        Ok(x32)
+    }
+
+    /// A list of numbers whose length is one of `lengths`.
+    fn numbers(&self, y: &Yaml, key: &str, lengths: &[usize]) -> anyhow::Result<Vec<f32>> {
+        let wanted = lengths.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(" or ");
+        let items = match y.as_vec() {
+            Some(v) if lengths.contains(&v.len()) => v,
+            _ => {
+                return Err(
+                    self.err(key, format!("expected a list of {wanted} numbers, found {}", describe(y)))
+                )
+            }
+        };
+        items.iter().enumerate().map(|(i, v)| self.number(v, &format!("{key}[{i}]"))).collect()
+    }
+
+    fn vec3(&self, y: &Yaml, key: &str) -> anyhow::Result<Vec3> {
+        let v = self.numbers(y, key, &[3])?;
+        Ok(Vec3::from_slice(&v))
+    }
+
+    /// A required entry of a mapping.
+    fn required<'y>(&self, h: &'y Hash, parent: &str, name: &str) -> anyhow::Result<&'y Yaml> {
+        get(h, name).ok_or_else(|| self.err(&child(parent, name), "missing"))
+    }
+
+    /// A file named relative to the YAML's folder, which must exist.
+    fn existing_file(&self, y: &Yaml, key: &str) -> anyhow::Result<PathBuf> {
+        let p = self.dir.join(self.string(y, key)?);
+        if !p.is_file() {
+            return Err(self.err(key, format!("file {} not found", p.display())));
+        }
+        Ok(p)
+    }
+
+    /// Parses every camera (so that errors anywhere are reported) and returns the first.
+    fn cameras(&mut self, y: &Yaml) -> anyhow::Result<Option<Camera>> {
+        let mut first = None;
+        for (i, c) in self.list(y, "Cameras")?.iter().enumerate() {
+            let key = format!("Cameras[{i}]");
+            let h = self.hash(c, &key)?;
+            self.check_keys(h, &key, CAMERA_KEYS);
+            let mut cam = Camera {
+                eye: self.vec3(self.required(h, &key, "Eye")?, &child(&key, "Eye"))?,
+                target: self.vec3(self.required(h, &key, "Target")?, &child(&key, "Target"))?,
+                ..Camera::default()
+            };
+            if let Some(up) = get(h, "Up") {
+                cam.up = self.vec3(up, &child(&key, "Up"))?;
+            }
+            if let Some(f) = get(h, "Fovy") {
+                cam.fov_y_deg = self.number(f, &child(&key, "Fovy"))?;
+            }
+            // Accepted for the lab renderer's rasteriser; a ray tracer has no clip planes.
+            for clip in ["ZNear", "ZFar"] {
+                if let Some(z) = get(h, clip) {
+                    self.number(z, &child(&key, clip))?;
+                }
+            }
+            cam.frame().map_err(|e| self.err(&key, e.to_string()))?;
+            first.get_or_insert(cam);
+        }
+        Ok(first)
+    }
+
+    /// Adds the named materials; returns name -> index into `scene.materials`.
+    fn materials(&mut self, y: &Yaml) -> anyhow::Result<HashMap<String, u32>> {
+        let mut names = HashMap::new();
+        for (i, m) in self.list(y, "Materials")?.iter().enumerate() {
+            let key = format!("Materials[{i}]");
+            let h = self.hash(m, &key)?;
+            self.check_keys(h, &key, MATERIAL_KEYS);
+            let name = self.string(self.required(h, &key, "Name")?, &child(&key, "Name"))?.to_string();
+            // The lab renderer's defaults: white albedo, no highlight.
+            let mut mat = Material { name: name.clone(), diffuse: Vec3::ONE, ..Material::default() };
+            if let Some(b) = get(h, "Blend") {
+                match self.string(b, &child(&key, "Blend"))? {
+                    "Opaque" => {}
+                    // The lab renderer's only see-through material is glass.
+                    "Transparent" => {
+                        mat.illum = 7;
+                        mat.ior = 1.5;
+                    }
+                    other => {
+                        let msg = format!("expected Opaque or Transparent, found '{other}'");
+                        return Err(self.err(&child(&key, "Blend"), msg));
+                    }
+                }
+            }
+            if let Some(d) = get(h, "Diffuse") {
+                mat.diffuse = self.vec3(d, &child(&key, "Diffuse"))?;
+            }
+            if let Some(d) = get(h, "DiffuseMap") {
+                mat.diffuse_map = Some(self.existing_file(d, &child(&key, "DiffuseMap"))?);
+            }
+            if let Some(s) = get(h, "Specular") {
+                // [r, g, b] or [r, g, b, shininess].
+                let s = self.numbers(s, &child(&key, "Specular"), &[3, 4])?;
+                mat.specular = Vec3::from_slice(&s);
+                if let Some(&n) = s.get(3) {
+                    mat.shininess = n;
+                }
+            }
+            if let Some(n) = get(h, "Shininess") {
+                mat.shininess = self.number(n, &child(&key, "Shininess"))?;
+            }
+            if let Some(e) = get(h, "Emission") {
+                mat.emission = self.vec3(e, &child(&key, "Emission"))?;
+            }
+            if names.insert(name.clone(), self.scene.materials.len() as u32).is_some() {
+                return Err(self.err(&child(&key, "Name"), format!("material '{name}' is defined twice")));
+            }
+            self.scene.materials.push(mat);
+        }
+        Ok(names)
+    }
+
+    /// `Models`: meshes with a named material, scaled then translated.
+    fn models(&mut self, y: &Yaml, names: &HashMap<String, u32>) -> anyhow::Result<()> {
+        for (i, m) in self.list(y, "Models")?.iter().enumerate() {
+            let key = format!("Models[{i}]");
+            let h = self.hash(m, &key)?;
+            self.check_keys(h, &key, MODEL_KEYS);
+            let mesh_key = child(&key, "Mesh");
+            let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
+            let mat_key = child(&key, "Material");
+            let mat_name = self.string(self.required(h, &key, "Material")?, &mat_key)?;
+            let material = *names.get(mat_name).ok_or_else(|| {
+                let mut known: Vec<&str> = names.keys().map(String::as_str).collect();
+                known.sort_unstable();
+                self.err(&mat_key, format!("no material named '{mat_name}' (known: {})", known.join(", ")))
+            })?;
+            let scale = get(h, "Scale")
+                .map(|s| self.vec3(s, &child(&key, "Scale")))
+                .transpose()?
+                .unwrap_or(Vec3::ONE);
+            let shift = get(h, "Translation")
+                .map(|t| self.vec3(t, &child(&key, "Translation")))
+                .transpose()?
+                .unwrap_or(Vec3::ZERO);
+            let mesh = load_obj_meshes(&mesh_path, Some(material))
+                .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
+            for w in mesh.warnings {
+                warn(&mut self.scene.stats, w);
+            }
+            let triangles = mesh.triangles.into_iter().map(|t| transform(t, scale, shift));
+            push_triangles(&mut self.scene, triangles);
+        }
+        Ok(())
+    }
+
+    /// `ComplexModels`: meshes with the materials of their own MTL files.
+    fn complex_models(&mut self, y: &Yaml) -> anyhow::Result<()> {
+        for (i, m) in self.list(y, "ComplexModels")?.iter().enumerate() {
+            let key = format!("ComplexModels[{i}]");
+            let h = self.hash(m, &key)?;
+            self.check_keys(h, &key, COMPLEX_MODEL_KEYS);
+            let mesh_key = child(&key, "Mesh");
+            let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
+            let mesh = load_obj_meshes(&mesh_path, None)
+                .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
+            for w in mesh.warnings {
+                warn(&mut self.scene.stats, w);
+            }
+            let offset = self.scene.materials.len() as u32;
+            self.scene.materials.extend(mesh.materials);
+            let triangles =
+                mesh.triangles.into_iter().map(|t| Triangle { material: t.material + offset, ..t });
+            push_triangles(&mut self.scene, triangles);
+        }
+        Ok(())
+    }
+
+    fn lights(&mut self, y: &Yaml) -> anyhow::Result<()> {
+        for (i, l) in self.list(y, "Lights")?.iter().enumerate() {
+            let key = format!("Lights[{i}]");
+            let h = self.hash(l, &key)?;
+            let kind = self.string(self.required(h, &key, "Type")?, &child(&key, "Type"))?;
+            let field = |name: &str| -> anyhow::Result<Vec3> {
+                self.vec3(self.required(h, &key, name)?, &child(&key, name))
+            };
+            let direction = |name: &str| -> anyhow::Result<Vec3> {
+                let d = field(name)?.normalize_or_zero();
+                if d == Vec3::ZERO {
+                    return Err(self.err(&child(&key, name), "a direction cannot be zero"));
+                }
+                Ok(d)
+            };
+            let (known, light): (&[&str], Option<Light>) = match kind {
+                "Point" => {
+                    let light = Light::Point { position: field("Position")?, intensity: field("Intensity")? };
+                    (&["Type", "Position", "Intensity"], Some(light))
+                }
+                "Directional" => {
+                    let light = Light::Directional {
+                        direction: direction("Direction")?,
+                        intensity: field("Intensity")?,
+                    };
+                    (&["Type", "Direction", "Intensity"], Some(light))
+                }
+                "Spot" => {
+                    let radius = self.number(self.required(h, &key, "Length")?, &child(&key, "Length"))?;
+                    if radius <= 0.0 {
+                        return Err(self.err(
+                            &child(&key, "Length"),
+                            format!("the light's radius must be positive, not {radius}"),
+                        ));
+                    }
+                    let light = Light::Spot {
+                        position: field("Position")?,
+                        direction: direction("Direction")?,
+                        intensity: field("Intensity")?,
+                        radius,
+                    };
+                    (&["Type", "Position", "Direction", "Intensity", "Length"], Some(light))
+                }
+                "Area" => {
+                    let p = [field("p0")?, field("p1")?, field("p2")?];
+                    let facing = direction("Direction")?;
+                    self.area_light(&key, p, facing, field("Intensity")?)?;
+                    (&["Type", "p0", "p1", "p2", "Direction", "Intensity"], None)
+                }
+                other => {
+                    let msg =
+                        format!("unknown light type '{other}' (expected Point, Directional, Spot or Area)");
+                    return Err(self.err(&child(&key, "Type"), msg));
+                }
+            };
+            self.check_keys(h, &key, known);
+            self.scene.lights.extend(light);
+        }
+        Ok(())
+    }
+
+    /// An `Area` light becomes one emitting triangle with a material of its own, wound so that
+    /// its geometric normal (the emitting side) points along `facing`.
+    fn area_light(&mut self, key: &str, p: [Vec3; 3], facing: Vec3, intensity: Vec3) -> anyhow::Result<()> {
+        let [p0, p1, p2] = p;
+        let cross = (p1 - p0).cross(p2 - p0);
+        let along = cross.dot(facing);
+        if cross.length() > 0.0 && along.abs() <= 1e-6 * cross.length() {
+            return Err(self.err(&child(key, "Direction"), "the direction lies in the triangle's plane"));
+        }
+        let p = if along < 0.0 { [p0, p2, p1] } else { [p0, p1, p2] };
+        let material = self.scene.materials.len() as u32;
+        self.scene.materials.push(Material {
+            name: format!("{key} (Area light)"),
+            diffuse: Vec3::ZERO,
+            emission: intensity,
+            ..Material::default()
+        });
+        let before = self.scene.stats.dropped_degenerate;
+        push_triangles(&mut self.scene, [Triangle { p, n: None, uv: None, material }]);
+        if self.scene.stats.dropped_degenerate > before {
+            self.warn_at(Some(key), "the area light's triangle has zero area; dropped");
+        }
+        Ok(())
+    }
+}
+
+/// p' = p * scale + shift. Normals take the inverse scale (the inverse transpose of a diagonal
+/// matrix) and are renormalised later. A mirroring scale (negative determinant) would turn
+/// the triangles inside out, so the winding is flipped back.
+fn transform(t: Triangle, scale: Vec3, shift: Vec3) -> Triangle {
+    let mut t = Triangle { p: t.p.map(|p| p * scale + shift), n: t.n.map(|n| n.map(|v| v / scale)), ..t };
+    if scale.x * scale.y * scale.z < 0.0 {
+        t.p.swap(1, 2);
+        if let Some(n) = t.n.as_mut() {
+            n.swap(1, 2);
+        }
+        if let Some(uv) = t.uv.as_mut() {
+            uv.swap(1, 2);
+        }
+    }
+    t
+}

@@ -1,2 +1,20 @@
-//! Load a scene file by extension (placeholder).
-pub fn load_scene(_path: &std::path::Path) -> anyhow::Result<super::Scene> { anyhow::bail!("not yet") }
+//! Load a scene file, choosing the loader by extension.
+
+use std::path::Path;
+
+use super::{lab_yaml, obj, Scene};
+use crate::error::InputError;
+
+/// Loads `.obj` (Wavefront OBJ + MTL) or `.yaml`/`.yml` (the lab scene format).
+pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("obj") => obj::load_obj(path),
+        Some("yaml" | "yml") => lab_yaml::load_lab_yaml(path),
+        other => {
+            let found = other.map_or("no extension".to_string(), |e| format!("extension .{e}"));
+            let msg = format!("unsupported scene file ({found}); supported: .obj, .yaml, .yml");
+            Err(InputError::new(path, None, msg).into())
+        }
+    }
+}
