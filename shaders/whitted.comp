@@ -79,7 +79,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
             // Radiance * area * cos / d^2 is the irradiance of this piece, over pi (scene::Light).
             vec3 e = em.radiance * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
             // Shadow ray between the two offset points, so neither surface occludes itself.
-            vec3 target = offset_ray(q, -en, frame.scene_scale);
+            vec3 target = offset_ray(q, en, frame.scene_scale);
             vec3 span = target - origin;
             if (trace_threaded(origin, span, 0.0, 1.0, true).prim != PRIM_NONE) continue;
             result += blinn_phong(m, s, view, l, e);

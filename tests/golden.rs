@@ -94,11 +94,12 @@ fn region_mean(img: &Image, x0: u32, y0: u32, x1: u32, y1: u32) -> [f32; 3] {
 fn lab_cornell_box_whitted_matches_golden() {
     let settings = RenderSettings { width: 128, height: 128, spp: 4, max_depth: 7, ..RenderSettings::default() };
     let image = render_whitted("scenes/lab/cornell_box/cornell_box.yaml", &settings, BuilderKind::Sah);
-    // Independent of the reference: the red wall is on the left and the green one on the right.
+    // Independent of the reference: with right = normalize(fwd x up) the camera's right is -x,
+    // so the lab's red `left` wall (at x = 0) is on the image's right, the green one on its left.
     let left = region_mean(&image, 4, 40, 14, 80);
     let right = region_mean(&image, 114, 40, 124, 80);
-    assert!(left[0] > 2.0 * left[1] && left[0] > 0.05, "left wall should be red: {left:?}");
-    assert!(right[1] > 2.0 * right[0] && right[1] > 0.05, "right wall should be green: {right:?}");
+    assert!(left[1] > 2.0 * left[0] && left[1] > 0.05, "image-left wall should be green: {left:?}");
+    assert!(right[0] > 2.0 * right[1] && right[0] > 0.05, "image-right wall should be red: {right:?}");
     check_golden("lab_cornell_box_whitted", &image);
 }
 

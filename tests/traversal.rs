@@ -156,8 +156,8 @@ fn cornell_box_agrees_along_the_chain() {
 #[test]
 fn primary_rays_through_the_cornell_box_agree() {
     // Camera rays through pixel centres, with exactly axis-parallel rays among them (the
-    // central column and row have zero components).
-    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.obj")).unwrap();
+    // central column and row have zero components). The .yaml has the standard camera.
+    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
     let frame = scene.camera.frame().unwrap();
     let (w, h) = (33u32, 33u32);
     let rays: Vec<GpuRay> = (0..h)
@@ -165,7 +165,8 @@ fn primary_rays_through_the_cornell_box_agree() {
         .map(|(i, j)| ray(frame.origin, frame.ray_direction(i as f32 + 0.5, j as f32 + 0.5, w, h)))
         .collect();
     let hits = check_chain("cornell primary", &scene, &rays);
-    assert_eq!(hits, rays.len(), "every camera ray hits the closed box");
+    // The box fills the standard camera's view but for a thin border (open front, black rim).
+    assert!(hits * 10 >= rays.len() * 9, "only {hits} of {} camera rays hit the box", rays.len());
 }
 
 #[test]
