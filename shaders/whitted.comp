@@ -81,7 +81,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
             // Shadow ray between the two offset points, so neither surface occludes itself.
             vec3 target = offset_ray(q, en, frame.scene_scale);
             vec3 span = target - origin;
-            if (trace_threaded(origin, span, 0.0, 1.0, true).prim != PRIM_NONE) continue;
+            if (occluded(origin, span, 0.0, 1.0)) continue;
             result += blinn_phong(m, s, view, l, e);
         }
     }
@@ -112,7 +112,7 @@ vec3 whitted(vec3 origin, vec3 dir) {
     vec3 color = vec3(0.0);
     while (sp > 0u) {
         Task task = stack[--sp];
-        Hit h = trace_threaded(task.origin, task.dir, 0.0, 1.0 / 0.0, false);
+        Hit h = trace_closest(task.origin, task.dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) continue;
         Surface s = surface_at(h, task.dir);
         GpuMaterial m = materials[s.material];

@@ -64,6 +64,13 @@ Hit trace_threaded(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) 
     return hit;
 }
 
+// The interface every integrator uses; layouts differ only behind it.
+
+// Closest hit along origin + t*dir for tmin < t < tmax.
+Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax) {
+    return trace_threaded(origin, dir, tmin, tmax, false);
+}
+
 // Shadow query: is anything opaque between origin + tmin*dir and origin + tmax*dir?
 bool occluded(vec3 origin, vec3 dir, float tmin, float tmax) {
     return trace_threaded(origin, dir, tmin, tmax, true).prim != PRIM_NONE;
