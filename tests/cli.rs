@@ -1,0 +1,122 @@
+//! The `vkrt` binary as a user runs it: help, device listing, renders to each image format,
+//! and bad input (clear error naming the file, non-zero exit, no panic, outputs untouched).
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn vkrt(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vkrt")).args(args).output().expect("run vkrt")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn assert_fails_cleanly(o: &Output, must_mention: &str) {
+    let err = stderr(o);
+    assert!(!o.status.success(), "expected failure, got success; stderr: {err}");
+    assert!(err.contains("error:"), "no error line: {err}");
+    assert!(err.contains(must_mention), "error does not mention {must_mention:?}: {err}");
+    assert!(!err.contains("panicked"), "vkrt panicked: {err}");
+}
+
+const CORNELL: &str = "scenes/lab/cornell_box/cornell_box.yaml";
+
+fn cornell() -> String {
+    common::repo_path(CORNELL).display().to_string()
+}
+
+#[test]
+fn help_lists_every_render_option() {
+    let o = vkrt(&["render", "--help"]);
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    for flag in ["--output", "--width", "--height", "--integrator", "--max-depth", "--spp", "--builder", "--device", "--seed"] {
+        assert!(text.contains(flag), "render --help lacks {flag}");
+    }
+    assert!(vkrt(&["--help"]).status.success());
+    assert!(vkrt(&["info", "--help"]).status.success());
+}
+
+#[test]
+fn info_lists_the_device_it_would_use() {
+    let o = vkrt(&["info"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("<- vkrt uses this one"), "{text}");
+    assert!(text.contains("max storage buffer range"), "{text}");
+    assert!(text.contains("subgroup size"), "{text}");
+}
+
+#[test]
+fn renders_png_exr_and_pfm_of_the_same_image() {
+    let dir = common::scratch_dir("cli-formats");
+    let mut images = Vec::new();
+    for ext in ["png", "exr", "pfm"] {
+        let out = dir.join(format!("cornell.{ext}"));
+        let _ = std::fs::remove_file(&out);
+        let o = vkrt(&["render", &cornell(), "-o", out.to_str().unwrap(), "--width", "40", "--height", "30"]);
+        assert!(o.status.success(), "{ext}: {}", stderr(&o));
+        let img = vkrt::output::read_image(&out).unwrap();
+        assert_eq!((img.width, img.height), (40, 30), "{ext} size");
+        images.push(img);
+    }
+    // EXR and PFM hold the same linear floats, in the same row order (row 0 at the top).
+    assert_eq!(images[1].pixels, images[2].pixels, "exr and pfm differ");
+    // The PNG is the same image, sRGB-encoded and quantised to 8 bits: within 1/255 after
+    // decoding, for values inside [0, 1].
+    for (p, f) in images[0].pixels.iter().zip(&images[1].pixels) {
+        for k in 0..3 {
+            let want = vkrt::output::image::srgb_to_linear(vkrt::output::image::linear_to_srgb(f[k]));
+            assert!((p[k] - want).abs() < 0.01, "png {} vs exr {}", p[k], f[k]);
+        }
+    }
+    // Row 0 is the top: the ceiling right by the point light is far brighter than the floor.
+    let row = |y: u32| (0..40).map(|x| images[1].get(x, y)[0]).sum::<f32>();
+    assert!(row(5) > 2.0 * row(25), "ceiling row {} vs floor row {}", row(5), row(25));
+}
+
+#[test]
+fn missing_scene_is_a_clear_error_and_leaves_the_output_alone() {
+    let dir = common::scratch_dir("cli-missing");
+    let out = dir.join("keep.png");
+    std::fs::write(&out, b"previous output").unwrap();
+    let o = vkrt(&["render", "/nonexistent/scene.obj", "-o", out.to_str().unwrap()]);
+    assert_fails_cleanly(&o, "/nonexistent/scene.obj");
+    assert_eq!(std::fs::read(&out).unwrap(), b"previous output");
+}
+
+#[test]
+fn unwritable_output_fails_before_rendering() {
+    let o = vkrt(&["render", &cornell(), "-o", "/nonexistent-dir/out.png"]);
+    assert_fails_cleanly(&o, "/nonexistent-dir/out.png");
+    assert!(!stderr(&o).contains("rendered"), "it rendered before failing: {}", stderr(&o));
+}
+
+#[test]
+fn unknown_output_format_is_an_error() {
+    let o = vkrt(&["render", &cornell(), "-o", "out.bmp"]);
+    assert_fails_cleanly(&o, "out.bmp");
+}
+
+#[test]
+fn unknown_device_is_an_error_listing_the_devices() {
+    let dir = common::scratch_dir("cli-device");
+    let out = dir.join("x.png");
+    let o = vkrt(&["render", &cornell(), "-o", out.to_str().unwrap(), "--device", "no-such-gpu"]);
+    assert_fails_cleanly(&o, "no-such-gpu");
+    assert!(stderr(&o).contains("devices:"), "{}", stderr(&o));
+    assert!(!Path::new(&out).exists());
+}
+
+#[test]
+fn bad_scene_file_names_the_file_and_line() {
+    let dir = common::scratch_dir("cli-bad-obj");
+    let obj = dir.join("bad.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n").unwrap();
+    let o = vkrt(&["render", obj.to_str().unwrap(), "-o", dir.join("x.png").to_str().unwrap()]);
+    assert_fails_cleanly(&o, "bad.obj");
+    assert!(stderr(&o).contains("line 3"), "{}", stderr(&o));
+}
