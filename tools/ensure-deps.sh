@@ -11,6 +11,8 @@
 #
 # Prints what it installs; prints nothing more than one line when everything is already there.
 set -euo pipefail
+# dpkg needs ldconfig and friends from the sbin folders, which a non-login PATH (CI's) may lack.
+export PATH="$PATH:/usr/local/sbin:/usr/sbin:/sbin"
 
 want_validation=0
 for arg in "$@"; do

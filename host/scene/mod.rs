@@ -4,6 +4,7 @@
 //! layouts, integrators) reads only this. Coordinates are world space, right-handed, any unit.
 
 pub mod camera;
+pub mod closed_meshes;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;
