@@ -49,6 +49,11 @@ pub enum BuilderKind {
     Sah,
 }
 
+impl BuilderKind {
+    /// Every builder, fastest build first.
+    pub const ALL: [BuilderKind; 2] = [BuilderKind::Median, BuilderKind::Sah];
+}
+
 /// Settings shared by the builders.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BuildConfig {

@@ -31,7 +31,8 @@ pub fn trace_rays(ctx: &Context, gpu: &GpuScene, rays: &[GpuRay], any_hit: bool)
         (BINDING_RAYS, BindingKind::Storage),
         (BINDING_HITS, BindingKind::Storage),
     ];
-    let pipeline = ComputePipeline::new(ctx, "trace", shaders::TRACE, &bindings, std::mem::size_of::<GpuPush>() as u32)?;
+    let spv = shaders::for_layout("trace", gpu.layout)?;
+    let pipeline = ComputePipeline::new(ctx, "trace", spv, &bindings, std::mem::size_of::<GpuPush>() as u32)?;
     pipeline.bind(BINDING_NODES, &gpu.nodes)?;
     pipeline.bind(BINDING_TRIANGLES, &gpu.triangles)?;
     pipeline.bind(BINDING_RAYS, &ray_buf)?;
