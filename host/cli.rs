@@ -27,6 +27,10 @@ pub enum Command {
     Render(RenderArgs),
     /// List the Vulkan devices and the limits that matter to vkrt.
     Info(DeviceArgs),
+    /// Batch ray queries without rendering: rays from an .npy file, hits to an .npy file.
+    Trace(crate::bench::trace_cmd::TraceArgs),
+    /// Compare every BVH builder x layout on scenes: a table, CSV or JSON, and a heat map.
+    Bvh(crate::bench::bvh_table::BvhArgs),
 }
 
 #[derive(Debug, Args)]
@@ -83,6 +87,8 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render(args) => render(&args),
         Command::Info(args) => info(&args),
+        Command::Trace(args) => crate::bench::trace_cmd::run(&args).map(|_| ()),
+        Command::Bvh(args) => crate::bench::bvh_table::run(&args),
     }
 }
 
