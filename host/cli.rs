@@ -4,6 +4,7 @@ use crate::bvh::{BuildConfig, BuilderKind};
 use crate::gpu::{Context, ContextOptions};
 use crate::integrator::gpu_scene::{GpuScene, PreparedScene};
 use crate::integrator::{whitted, RenderSettings};
+use crate::layout::LayoutKind;
 use crate::{output, scene};
 use anyhow::{Context as _, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -26,6 +27,10 @@ pub enum Command {
     Render(RenderArgs),
     /// List the Vulkan devices and the limits that matter to vkrt.
     Info(DeviceArgs),
+    /// Batch ray queries without rendering: rays from an .npy file, hits to an .npy file.
+    Trace(crate::bench::trace_cmd::TraceArgs),
+    /// Compare every BVH builder x layout on scenes: a table, CSV or JSON, and a heat map.
+    Bvh(crate::bench::bvh_table::BvhArgs),
 }
 
 #[derive(Debug, Args)]
@@ -67,6 +72,10 @@ pub struct RenderArgs {
     /// BVH builder: median split (fast build) or binned SAH (faster rendering).
     #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
     pub builder: BuilderKind,
+    /// BVH layout the shaders walk: threaded (escape links), multi-order (six threaded orders,
+    /// one per dominant ray direction) or parent-link (ordered, Hapala et al. 2011).
+    #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
+    pub layout: LayoutKind,
     /// Print scene and timing details.
     #[arg(short, long)]
     pub verbose: bool,
@@ -78,6 +87,8 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render(args) => render(&args),
         Command::Info(args) => info(&args),
+        Command::Trace(args) => crate::bench::trace_cmd::run(&args).map(|_| ()),
+        Command::Bvh(args) => crate::bench::bvh_table::run(&args),
     }
 }
 
@@ -132,7 +143,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
     let scene = scene::load_scene(&args.scene)?;
     let load_s = t0.elapsed().as_secs_f64();
-    let prepared = PreparedScene::new(&scene, args.builder, &BuildConfig::default())?;
+    let prepared = PreparedScene::with_layout(&scene, args.builder, args.layout, &BuildConfig::default())?;
     let options = ContextOptions { device: args.device.device.clone(), ..ContextOptions::from_env() };
     let ctx = Context::new(&options)?;
     let t1 = Instant::now();
@@ -154,7 +165,7 @@ fn render(args: &RenderArgs) -> Result<()> {
             load_s,
             args.builder,
             prepared.build_seconds,
-            prepared.flat.nodes.len(),
+            prepared.flat.node_count(),
             upload_s
         );
     }

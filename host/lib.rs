@@ -5,6 +5,7 @@
 //! walk (with a CPU twin that walks the same arrays); [`gpu`] and [`pipeline`] drive Vulkan; an
 //! [`integrator`] renders in short batches; [`output`] writes images.
 
+pub mod bench;
 pub mod bvh;
 pub mod cli;
 pub mod error;

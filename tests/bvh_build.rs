@@ -11,7 +11,7 @@ use vkrt::bvh::stats::{stats, BvhStats};
 use vkrt::bvh::validate::validate;
 use vkrt::bvh::{build, Aabb, BuildConfig, BuilderKind, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
 
-const BUILDERS: [BuilderKind; 2] = [BuilderKind::Median, BuilderKind::Sah];
+const BUILDERS: [BuilderKind; 4] = BuilderKind::ALL;
 
 type Tri = [Vec3; 3];
 
@@ -320,6 +320,22 @@ fn sah_beats_median_on_random_soups() {
             sah < median,
             "seed {seed}: SAH builder {sah} not below median {median}"
         );
+    }
+}
+
+/// The quality ladder the builders' docs promise: the full sweep tries a superset of the binned
+/// planes (so it is at least as good, up to greedy effects a few percent wide), and reinsertion
+/// only accepts moves that lower the cost.
+#[test]
+fn sweep_beats_binned_and_reinsertion_beats_sweep() {
+    for seed in 0..3 {
+        let (boxes, centroids) = tri_boxes(&random_soup(20_000, 200 + seed));
+        let config = BuildConfig::default();
+        let cost = |kind| sah_cost(&build_valid(kind, &boxes, &centroids, &config));
+        let (binned, sweep, reinserted) = (cost(BuilderKind::Sah), cost(BuilderKind::SweepSah), cost(BuilderKind::Reinsertion));
+        assert!(sweep <= binned * 1.02, "seed {seed}: sweep {sweep} vs binned {binned}");
+        assert!(reinserted <= sweep, "seed {seed}: reinsertion {reinserted} vs sweep {sweep}");
+        assert!(reinserted < binned, "seed {seed}: reinsertion {reinserted} vs binned {binned}");
     }
 }
 

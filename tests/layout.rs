@@ -20,8 +20,35 @@ struct SpirvStruct {
 }
 
 fn probe_module() -> naga::Module {
-    naga::front::spv::parse_u8_slice(vkrt::pipeline::shaders::LAYOUT_PROBE, &naga::front::spv::Options::default())
-        .expect("naga reads the layout probe")
+    parse(vkrt::pipeline::shaders::LAYOUT_PROBE)
+}
+
+fn parse(spv: &[u8]) -> naga::Module {
+    naga::front::spv::parse_u8_slice(spv, &naga::front::spv::Options::default()).expect("naga reads the layout probe")
+}
+
+/// The parent-link layout's node struct, from the probe compiled with LAYOUT_PARENT_LINK (the
+/// node binding holds it there), with the same binding number and stride as the threaded one.
+#[test]
+fn parent_link_node_matches_its_glsl_mirror() {
+    let module = parse(vkrt::pipeline::shaders::LAYOUT_PROBE_PARENT_LINK);
+    let structs = spirv_structs(&module);
+    let (name, size, fields) = rust_fields!(GpuParentNode { bmin, parent, bmax, leaf });
+    let s = structs.get(name).unwrap_or_else(|| panic!("struct {name} is missing from the SPIR-V"));
+    let rust: Vec<(String, u32)> = fields.iter().map(|(n, o)| (n.to_string(), *o as u32)).collect();
+    assert_eq!(s.members, rust, "members and offsets of {name}: SPIR-V (left) vs Rust (right)");
+    assert_eq!(s.span as usize, size, "size of {name}");
+    let nodes = module
+        .global_variables
+        .iter()
+        .find(|(_, v)| module.types[v.ty].name.as_deref() == Some("Nodes"))
+        .map(|(_, v)| v)
+        .expect("the Nodes block");
+    assert_eq!(nodes.binding.as_ref().map(|b| b.binding), Some(BINDING_NODES));
+    let naga::TypeInner::Struct { members, .. } = &module.types[nodes.ty].inner else { panic!("Nodes is not a block") };
+    let naga::TypeInner::Array { base, stride, .. } = &module.types[members[0].ty].inner else { panic!("Nodes holds no array") };
+    assert_eq!(module.types[*base].name.as_deref(), Some(name));
+    assert_eq!(*stride as usize, size_of::<GpuParentNode>());
 }
 
 fn spirv_structs(module: &naga::Module) -> HashMap<String, SpirvStruct> {

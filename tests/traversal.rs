@@ -1,6 +1,6 @@
 //! The agreement chain: brute force == BVH tree walk == flat CPU twin == GPU traversal, for
-//! every builder, on random triangle soups, the Cornell box and axis-parallel rays.
-//! Same primitive id; t within 1e-5 relative.
+//! every builder x layout, on random triangle soups, the Cornell box and axis-parallel rays.
+//! Same primitive id; t within 1e-5 relative; the GPU's traversal counters equal its twin's.
 
 mod common;
 
@@ -11,10 +11,10 @@ use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
 use vkrt::integrator::ray_query::trace_rays;
 use vkrt::layout::constants::PRIM_NONE;
 use vkrt::layout::cpu_trace::{self, RayPre};
-use vkrt::layout::{GpuHit, GpuRay};
+use vkrt::layout::{GpuHit, GpuRay, LayoutKind};
 use vkrt::scene::{Scene, Triangle};
 
-const BUILDERS: [BuilderKind; 2] = [BuilderKind::Median, BuilderKind::Sah];
+const BUILDERS: &[BuilderKind] = &BuilderKind::ALL;
 const T_TOLERANCE: f32 = 1e-5;
 
 /// Closest hit by walking the `Bvh` node tree (before flattening), nearest child first.
@@ -100,38 +100,42 @@ fn test_rays(scene: &Scene, n: usize, seed: u64) -> Vec<GpuRay> {
     rays
 }
 
-/// Runs the whole chain for `scene` with `rays`; returns how many rays hit.
+/// Runs the whole chain for `scene` with `rays` for every builder x layout; returns how many
+/// rays hit.
 fn check_chain(name: &str, scene: &Scene, rays: &[GpuRay]) -> usize {
     let ctx = gpu_context();
-    let mut hits = 0;
-    for builder in BUILDERS {
+    let brute: Vec<GpuHit> = rays.iter().map(|r| cpu_trace::brute_force(&scene.triangles, r)).collect();
+    for &builder in BUILDERS {
         let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
         let tree = bvh::build(builder, &boxes, &centroids, &BuildConfig::default());
-        let prepared = PreparedScene::new(scene, builder, &BuildConfig::default()).unwrap();
-        let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-        let gpu_hits = trace_rays(&ctx, &gpu, rays, false).unwrap();
-        let gpu_any = trace_rays(&ctx, &gpu, rays, true).unwrap();
-        hits = 0;
         for (i, r) in rays.iter().enumerate() {
-            let what = format!("{name} {builder:?} ray {i}");
-            let brute = cpu_trace::brute_force(&scene.triangles, r);
             let walked = tree_walk(&tree, &scene.triangles, r);
-            let twin = cpu_trace::trace(&prepared.flat.nodes, &prepared.flat.triangles, r, false);
-            assert_same_hit(&format!("{what}: tree walk vs brute force"), r, &brute, &walked);
-            assert_same_hit(&format!("{what}: flat twin vs brute force"), r, &brute, &twin);
-            assert_same_hit(&format!("{what}: GPU vs flat twin"), r, &twin, &gpu_hits[i]);
-            // The GPU counters are the twin's: same nodes, same order.
-            assert_eq!(twin.nodes_visited, gpu_hits[i].nodes_visited, "{what}: nodes visited");
-            assert_eq!(twin.tris_tested, gpu_hits[i].tris_tested, "{what}: triangles tested");
-            // Any-hit finds a hit exactly when there is one, and it is a real one.
-            let twin_any = cpu_trace::trace(&prepared.flat.nodes, &prepared.flat.triangles, r, true);
-            assert_eq!(twin_any.prim == PRIM_NONE, brute.prim == PRIM_NONE, "{what}: any-hit on CPU");
-            assert_eq!(twin_any.prim, gpu_any[i].prim, "{what}: any-hit GPU vs CPU");
-            hits += (brute.prim != PRIM_NONE) as usize;
+            assert_same_hit(&format!("{name} {builder:?} ray {i}: tree walk vs brute force"), r, &brute[i], &walked);
+        }
+        for layout in LayoutKind::ALL {
+            let prepared = PreparedScene::with_layout(scene, builder, layout, &BuildConfig::default()).unwrap();
+            assert_eq!(prepared.flat.layout(), layout);
+            let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+            let gpu_hits = trace_rays(&ctx, &gpu, rays, false).unwrap();
+            let gpu_any = trace_rays(&ctx, &gpu, rays, true).unwrap();
+            for (i, r) in rays.iter().enumerate() {
+                let what = format!("{name} {builder:?} {} ray {i}", layout.name());
+                let twin = prepared.flat.trace(r, false);
+                assert_same_hit(&format!("{what}: flat twin vs brute force"), r, &brute[i], &twin);
+                assert_same_hit(&format!("{what}: GPU vs flat twin"), r, &twin, &gpu_hits[i]);
+                // The GPU counters are the twin's: same nodes, same order.
+                assert_eq!(twin.nodes_visited, gpu_hits[i].nodes_visited, "{what}: nodes visited");
+                assert_eq!(twin.tris_tested, gpu_hits[i].tris_tested, "{what}: triangles tested");
+                // Any-hit finds a hit exactly when there is one, and it is a real one.
+                let twin_any = prepared.flat.trace(r, true);
+                assert_eq!(twin_any.prim == PRIM_NONE, brute[i].prim == PRIM_NONE, "{what}: any-hit on CPU");
+                assert_eq!(twin_any.prim, gpu_any[i].prim, "{what}: any-hit GPU vs CPU");
+                assert_eq!(twin_any.nodes_visited, gpu_any[i].nodes_visited, "{what}: any-hit nodes visited");
+            }
         }
     }
     common::assert_no_validation_messages(&ctx);
-    hits
+    brute.iter().filter(|h| h.prim != PRIM_NONE).count()
 }
 
 #[test]
@@ -173,10 +177,13 @@ fn primary_rays_through_the_cornell_box_agree() {
 fn empty_scene_misses_everything() {
     let scene = Scene::default();
     let ctx = gpu_context();
-    let prepared = PreparedScene::new(&scene, BuilderKind::Sah, &BuildConfig::default()).unwrap();
-    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
     let rays = vec![ray(Vec3::ZERO, Vec3::X), ray(Vec3::ONE, -Vec3::Y)];
-    let hits = trace_rays(&ctx, &gpu, &rays, false).unwrap();
-    assert!(hits.iter().all(|h| h.prim == PRIM_NONE && h.t == f32::INFINITY));
+    for layout in LayoutKind::ALL {
+        let prepared = PreparedScene::with_layout(&scene, BuilderKind::Sah, layout, &BuildConfig::default()).unwrap();
+        let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+        let hits = trace_rays(&ctx, &gpu, &rays, false).unwrap();
+        assert!(hits.iter().all(|h| h.prim == PRIM_NONE && h.t == f32::INFINITY));
+        assert!(rays.iter().all(|r| prepared.flat.trace(r, false).prim == PRIM_NONE));
+    }
     common::assert_no_validation_messages(&ctx);
 }

@@ -40,7 +40,7 @@ fn run() -> Result<()> {
     for path in &scenes {
         let scene = vkrt::scene::load_scene(path)?;
         let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
-        for builder in [BuilderKind::Median, BuilderKind::Sah] {
+        for builder in BuilderKind::ALL {
             let config = BuildConfig::default();
             let mut best = f64::INFINITY;
             let mut tree = bvh::Bvh::default();

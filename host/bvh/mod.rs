@@ -47,6 +47,16 @@ pub enum BuilderKind {
     Median,
     /// Binned surface area heuristic: slower, better trees.
     Sah,
+    /// Full-sweep SAH: every split between sorted centroids; best top-down object splits.
+    SweepSah,
+    /// Full-sweep SAH, then subtrees moved to where they cost least (Bittner et al. 2013):
+    /// the slowest build and the lowest SAH cost.
+    Reinsertion,
+}
+
+impl BuilderKind {
+    /// Every builder, fastest build first.
+    pub const ALL: [BuilderKind; 4] = [BuilderKind::Median, BuilderKind::Sah, BuilderKind::SweepSah, BuilderKind::Reinsertion];
 }
 
 /// Settings shared by the builders.
@@ -76,6 +86,11 @@ pub fn build(kind: BuilderKind, boxes: &[Aabb], centroids: &[glam::Vec3], config
     match kind {
         BuilderKind::Median => build::median::build(boxes, centroids, config),
         BuilderKind::Sah => build::binned_sah::build(boxes, centroids, config),
+        BuilderKind::SweepSah => build::sweep_sah::build(boxes, centroids, config),
+        BuilderKind::Reinsertion => {
+            let tree = build::sweep_sah::build(boxes, centroids, config);
+            build::reinsertion::optimize(tree, config)
+        }
     }
 }
 

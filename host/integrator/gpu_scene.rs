@@ -2,7 +2,8 @@
 
 use crate::bvh::{self, BuildConfig, BuilderKind};
 use crate::gpu::{Buffer, Context};
-use crate::layout::flatten::{flatten, FlatBvh};
+use crate::layout::flatten::{flatten_as, FlatBvh};
+use crate::layout::LayoutKind;
 use crate::layout::scene_buffers::SceneBuffers;
 use crate::scene::Scene;
 use anyhow::{Context as _, Result};
@@ -23,11 +24,17 @@ pub struct PreparedScene {
 }
 
 impl PreparedScene {
+    /// Builds with `builder` and lays the tree out as the default (threaded) layout.
     pub fn new(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> Result<Self> {
+        Self::with_layout(scene, builder, LayoutKind::default(), config)
+    }
+
+    /// Builds with `builder` and lays the tree out as `layout`.
+    pub fn with_layout(scene: &Scene, builder: BuilderKind, layout: LayoutKind, config: &BuildConfig) -> Result<Self> {
         let start = std::time::Instant::now();
         let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
         let tree = bvh::build(builder, &boxes, &centroids, config);
-        let flat = flatten(&tree, &scene.triangles).context("flattening the BVH")?;
+        let flat = flatten_as(&tree, &scene.triangles, layout).with_context(|| format!("flattening the BVH as {}", layout.name()))?;
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(Self { flat, buffers: SceneBuffers::new(scene), build_seconds })
     }
@@ -44,6 +51,8 @@ pub struct GpuScene<'a> {
     pub light_count: u32,
     pub emitter_count: u32,
     pub triangle_count: u32,
+    /// Which layout `nodes` holds: shaders must be the variant for it.
+    pub layout: LayoutKind,
 }
 
 impl<'a> GpuScene<'a> {
@@ -61,11 +70,11 @@ impl<'a> GpuScene<'a> {
             Ok(())
         };
         let b = &prepared.buffers;
-        check("BVH nodes", std::mem::size_of_val(prepared.flat.nodes.as_slice()))?;
+        check("BVH nodes", prepared.flat.node_bytes().len())?;
         check("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
         check("shading data", std::mem::size_of_val(b.shading.as_slice()))?;
         Ok(Self {
-            nodes: Buffer::with_data(ctx, "bvh nodes", &prepared.flat.nodes, storage)?,
+            nodes: Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), storage)?,
             triangles: Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, storage)?,
             shading: Buffer::with_data(ctx, "shading", &b.shading, storage)?,
             materials: Buffer::with_data(ctx, "materials", &b.materials, storage)?,
@@ -74,6 +83,7 @@ impl<'a> GpuScene<'a> {
             light_count: b.lights.len() as u32,
             emitter_count: b.emitters.len() as u32,
             triangle_count: prepared.flat.triangles.len() as u32,
+            layout: prepared.flat.layout(),
         })
     }
 }

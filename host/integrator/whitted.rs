@@ -72,7 +72,8 @@ pub fn render(
     frame_buf.write(bytemuck::bytes_of(&frame))?;
     let accum = Buffer::new(ctx, "accumulation", pixels * 16, vk::BufferUsageFlags::STORAGE_BUFFER, MemoryLocation::Device)?;
     accum.clear()?;
-    let pipeline = ComputePipeline::new(ctx, "whitted", shaders::WHITTED, INTEGRATOR_BINDINGS, std::mem::size_of::<GpuPush>() as u32)?;
+    let spv = shaders::for_layout("whitted", gpu.layout)?;
+    let pipeline = ComputePipeline::new(ctx, "whitted", spv, INTEGRATOR_BINDINGS, std::mem::size_of::<GpuPush>() as u32)?;
     for (binding, buffer) in [
         (BINDING_NODES, &gpu.nodes),
         (BINDING_TRIANGLES, &gpu.triangles),

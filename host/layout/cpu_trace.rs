@@ -117,45 +117,64 @@ pub fn miss() -> GpuHit {
     GpuHit { t: f32::INFINITY, prim: PRIM_NONE, u: 0.0, v: 0.0, nodes_visited: 0, tris_tested: 0, _pad0: 0, _pad1: 0 }
 }
 
-/// `trace_threaded`: closest hit (or, with `any_hit`, the first hit found) along the ray,
-/// walking the threaded BVH. Closest-hit queries shrink tmax to the best hit, so the box test
-/// skips every node whose entry distance exceeds it.
+/// `traverse` in traverse_threaded.glsl: closest hit (or, with `any_hit`, the first hit found)
+/// along the ray, walking the threaded BVH from the root.
 pub fn trace(nodes: &[GpuNode], tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
-    let r = RayPre::new(ray);
+    trace_threaded_from(nodes, 0, tris, &RayPre::new(ray), ray.tmax, any_hit)
+}
+
+/// `traverse_threaded_from`: walk a threaded node array from `start` until an escape link says
+/// NODE_NONE. Closest-hit queries shrink tmax to the best hit, so the box test skips every node
+/// whose entry distance exceeds it.
+pub fn trace_threaded_from(nodes: &[GpuNode], start: u32, tris: &[GpuTriangle], r: &RayPre, tmax: f32, any_hit: bool) -> GpuHit {
     let mut hit = miss();
-    let mut tmax = ray.tmax;
-    let mut index = if nodes.is_empty() { NODE_NONE } else { 0 };
-    let count_mask = (1u32 << LEAF_COUNT_BITS) - 1;
-    while index != NODE_NONE {
-        let node = &nodes[index as usize];
+    let mut tmax = tmax;
+    let mut index = if (start as usize) < nodes.len() { start } else { NODE_NONE };
+    while let Some(node) = nodes.get(index as usize) {
         hit.nodes_visited += 1;
-        if intersect_box(&r, Vec3::from(node.bmin), Vec3::from(node.bmax), tmax).is_none() {
+        if intersect_box(r, Vec3::from(node.bmin), Vec3::from(node.bmax), tmax).is_none() {
             index = node.escape;
             continue;
         }
-        let count = node.leaf & count_mask;
-        if count == 0 {
+        if leaf_count(node.leaf) == 0 {
             index += 1;
             continue;
         }
-        let first = node.leaf >> LEAF_COUNT_BITS;
-        for i in first..first + count {
-            let tri = &tris[i as usize];
-            hit.tris_tested += 1;
-            if let Some(h) = intersect_triangle(&r, tri.v0.into(), tri.v1.into(), tri.v2.into(), tmax) {
-                tmax = h.t;
-                hit.t = h.t;
-                hit.prim = tri.prim;
-                hit.u = h.u;
-                hit.v = h.v;
-                if any_hit {
-                    return hit;
-                }
-            }
+        if test_leaf(node.leaf, tris, r, &mut tmax, &mut hit, any_hit) && any_hit {
+            return hit;
         }
         index = node.escape;
     }
     hit
+}
+
+/// The triangle count of a packed leaf word; 0 for an interior node.
+pub fn leaf_count(leaf: u32) -> u32 {
+    leaf & ((1u32 << LEAF_COUNT_BITS) - 1)
+}
+
+/// `test_leaf` in traverse.glsl: test a leaf's triangles in order, shrinking `tmax` and
+/// updating `hit` on each closer hit; true if any triangle was hit. An any-hit query stops at
+/// the first hit: any opaque hit answers it.
+pub fn test_leaf(leaf: u32, tris: &[GpuTriangle], r: &RayPre, tmax: &mut f32, hit: &mut GpuHit, any_hit: bool) -> bool {
+    let first = leaf >> LEAF_COUNT_BITS;
+    let mut found = false;
+    for i in first..first + leaf_count(leaf) {
+        let Some(tri) = tris.get(i as usize) else { break };
+        hit.tris_tested += 1;
+        if let Some(h) = intersect_triangle(r, tri.v0.into(), tri.v1.into(), tri.v2.into(), *tmax) {
+            *tmax = h.t;
+            hit.t = h.t;
+            hit.prim = tri.prim;
+            hit.u = h.u;
+            hit.v = h.v;
+            found = true;
+            if any_hit {
+                break;
+            }
+        }
+    }
+    found
 }
 
 /// Brute force over every triangle, in primitive-id order: the root of the agreement chain.

@@ -1,61 +1,128 @@
-//! Flatten a [`Bvh`] into the threaded layout the shaders walk.
+//! Flatten a [`Bvh`] into the arrays the shaders walk: the triangles in leaf order (shared by
+//! every layout) and the nodes of the chosen [`LayoutKind`]. The threaded layout is built here;
+//! the others live in `multi_order.rs` and `parent_link.rs`.
 
 use super::constants::{LEAF_COUNT_BITS, NODE_NONE};
-use super::{GpuNode, GpuTriangle};
+use super::{cpu_trace, multi_order, parent_link, GpuHit, GpuNode, GpuParentNode, GpuRay, GpuTriangle, LayoutKind};
 use crate::bvh::{Bvh, NodeKind};
 use crate::scene::Triangle;
 
-/// The arrays of the threaded BVH2: nodes in depth-first pre-order with escape links, and the
-/// triangles reordered so that each leaf's triangles are contiguous.
+/// The node array of one layout.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FlatNodes {
+    /// Depth-first pre-order with escape links.
+    Threaded(Vec<GpuNode>),
+    /// Six threaded orders, `len / 6` nodes each, concatenated (order = 2 * axis + negative).
+    MultiOrder(Vec<GpuNode>),
+    /// Sibling pairs with parent links.
+    ParentLink(Vec<GpuParentNode>),
+}
+
+impl Default for FlatNodes {
+    fn default() -> Self {
+        FlatNodes::Threaded(Vec::new())
+    }
+}
+
+/// The flat arrays of one layout: nodes, and the triangles reordered so that each leaf's
+/// triangles are contiguous.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FlatBvh {
-    pub nodes: Vec<GpuNode>,
+    pub nodes: FlatNodes,
     pub triangles: Vec<GpuTriangle>,
 }
 
 impl FlatBvh {
-    /// Bytes the two arrays occupy on the GPU.
+    pub fn layout(&self) -> LayoutKind {
+        match self.nodes {
+            FlatNodes::Threaded(_) => LayoutKind::Threaded,
+            FlatNodes::MultiOrder(_) => LayoutKind::MultiOrder,
+            FlatNodes::ParentLink(_) => LayoutKind::ParentLink,
+        }
+    }
+    /// The node array as uploaded to the GPU.
+    pub fn node_bytes(&self) -> &[u8] {
+        match &self.nodes {
+            FlatNodes::Threaded(n) | FlatNodes::MultiOrder(n) => bytemuck::cast_slice(n),
+            FlatNodes::ParentLink(n) => bytemuck::cast_slice(n),
+        }
+    }
+    /// Entries in the node array (for the multi-order layout, all six orders).
+    pub fn node_count(&self) -> usize {
+        match &self.nodes {
+            FlatNodes::Threaded(n) | FlatNodes::MultiOrder(n) => n.len(),
+            FlatNodes::ParentLink(n) => n.len(),
+        }
+    }
+    /// Bytes the node and triangle arrays occupy on the GPU.
     pub fn bytes(&self) -> usize {
-        std::mem::size_of_val(self.nodes.as_slice()) + std::mem::size_of_val(self.triangles.as_slice())
+        self.node_bytes().len() + std::mem::size_of_val(self.triangles.as_slice())
+    }
+    /// The CPU twin of this layout's shader: same hit, same counters.
+    pub fn trace(&self, ray: &GpuRay, any_hit: bool) -> GpuHit {
+        match &self.nodes {
+            FlatNodes::Threaded(n) => cpu_trace::trace(n, &self.triangles, ray, any_hit),
+            FlatNodes::MultiOrder(n) => multi_order::trace(n, &self.triangles, ray, any_hit),
+            FlatNodes::ParentLink(n) => parent_link::trace(n, &self.triangles, ray, any_hit),
+        }
     }
 }
 
 /// The largest triangle count the leaf encoding can address.
 pub const MAX_FLAT_TRIANGLES: usize = 1 << (32 - LEAF_COUNT_BITS);
 
-/// Lay `bvh` out in pre-order. Interior nodes are followed by their left subtree, then their
-/// right subtree; each node's escape link is the index just past its subtree.
+/// Lay `bvh` out as `layout`.
+pub fn flatten_as(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind) -> anyhow::Result<FlatBvh> {
+    let triangles = leaf_order_triangles(bvh, tris)?;
+    let nodes = match layout {
+        LayoutKind::Threaded => FlatNodes::Threaded(threaded(bvh, |_, left, right| (left, right), 0)),
+        LayoutKind::MultiOrder => FlatNodes::MultiOrder(multi_order::flatten(bvh)),
+        LayoutKind::ParentLink => FlatNodes::ParentLink(parent_link::flatten(bvh)?),
+    };
+    Ok(FlatBvh { nodes, triangles })
+}
+
+/// Lay `bvh` out as the threaded layout (the default).
 pub fn flatten(bvh: &Bvh, tris: &[Triangle]) -> anyhow::Result<FlatBvh> {
+    flatten_as(bvh, tris, LayoutKind::Threaded)
+}
+
+/// The triangles in `prim_indices` order, so a leaf's `first..first + count` indexes them.
+fn leaf_order_triangles(bvh: &Bvh, tris: &[Triangle]) -> anyhow::Result<Vec<GpuTriangle>> {
     if tris.len() > MAX_FLAT_TRIANGLES {
-        anyhow::bail!(
-            "scene has {} triangles; the threaded layout addresses at most {MAX_FLAT_TRIANGLES}",
-            tris.len()
-        );
+        anyhow::bail!("scene has {} triangles; the flat layouts address at most {MAX_FLAT_TRIANGLES}", tris.len());
     }
-    let triangles: Vec<GpuTriangle> = bvh
-        .prim_indices
+    bvh.prim_indices
         .iter()
         .map(|&prim| {
-            let t = &tris[prim as usize];
-            GpuTriangle {
+            let t = tris
+                .get(prim as usize)
+                .ok_or_else(|| anyhow::anyhow!("BVH names primitive {prim} of {} triangles", tris.len()))?;
+            Ok(GpuTriangle {
                 v0: t.p[0].to_array(),
                 prim,
                 v1: t.p[1].to_array(),
                 _pad0: 0,
                 v2: t.p[2].to_array(),
                 _pad1: 0,
-            }
+            })
         })
-        .collect();
+        .collect()
+}
+
+/// A threaded layout in pre-order, visiting the children of each interior node in the order
+/// `order(node, left, right)` returns. Each node's escape link is the index just past its
+/// subtree, offset by `base` (where this array will start in a concatenation), or NODE_NONE
+/// past the end.
+pub(super) fn threaded(bvh: &Bvh, order: impl Fn(usize, u32, u32) -> (u32, u32), base: u32) -> Vec<GpuNode> {
     let count = bvh.nodes.len();
     let mut nodes = Vec::with_capacity(count);
     if count == 0 {
-        return Ok(FlatBvh { nodes, triangles });
+        return nodes;
     }
     // In pre-order a subtree occupies a contiguous run of indices, so a node's escape link is
-    // its own index plus the size of its subtree. Sizes first (children before parents via a
-    // reversed pre-order), then the emission walk.
-    let preorder = preorder(bvh);
+    // its own index plus the size of its subtree; sizes do not depend on the child order.
+    let preorder = preorder(bvh, &order);
     let mut subtree = vec![1u32; count];
     for &src in preorder.iter().rev() {
         if let NodeKind::Interior { left, right } = bvh.nodes[src as usize].kind {
@@ -65,26 +132,27 @@ pub fn flatten(bvh: &Bvh, tris: &[Triangle]) -> anyhow::Result<FlatBvh> {
     for (index, &src) in preorder.iter().enumerate() {
         let node = &bvh.nodes[src as usize];
         let end = index as u32 + subtree[src as usize];
-        let escape = if end as usize >= count { NODE_NONE } else { end };
+        let escape = if end as usize >= count { NODE_NONE } else { base + end };
         let leaf = match node.kind {
             NodeKind::Leaf { first, count } => (first << LEAF_COUNT_BITS) | count,
             NodeKind::Interior { .. } => 0,
         };
         nodes.push(GpuNode { bmin: node.bounds.min.to_array(), escape, bmax: node.bounds.max.to_array(), leaf });
     }
-    Ok(FlatBvh { nodes, triangles })
+    nodes
 }
 
-/// Node ids in depth-first pre-order, left child first.
-fn preorder(bvh: &Bvh) -> Vec<u32> {
-    let mut order = Vec::with_capacity(bvh.nodes.len());
+/// Node ids in depth-first pre-order, children in the order `order` gives.
+fn preorder(bvh: &Bvh, order: &impl Fn(usize, u32, u32) -> (u32, u32)) -> Vec<u32> {
+    let mut out = Vec::with_capacity(bvh.nodes.len());
     let mut stack = vec![0u32];
     while let Some(src) = stack.pop() {
-        order.push(src);
+        out.push(src);
         if let NodeKind::Interior { left, right } = bvh.nodes[src as usize].kind {
-            stack.push(right);
-            stack.push(left);
+            let (first, second) = order(src as usize, left, right);
+            stack.push(second);
+            stack.push(first);
         }
     }
-    order
+    out
 }

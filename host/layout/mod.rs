@@ -8,6 +8,8 @@
 pub mod constants;
 pub mod cpu_trace;
 pub mod flatten;
+pub mod multi_order;
+pub mod parent_link;
 pub mod scene_buffers;
 
 use bytemuck::{Pod, Zeroable};
@@ -29,6 +31,62 @@ pub struct GpuNode {
     pub leaf: u32,
 }
 const _: () = assert!(std::mem::size_of::<GpuNode>() == 32);
+
+/// A node of the parent-linked BVH2 walked by the Hapala et al. 2011 state machine
+/// (`parent_link.rs`). Siblings sit in pairs at indices (2k, 2k+1), k >= 1, so a node's sibling
+/// is `index ^ 1`; the root is node 0 and node 1 is an unused (empty) filler.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuParentNode {
+    pub bmin: [f32; 3],
+    /// (parent index << 4) | (own split axis << 2) | parent's split axis. The split axis picks
+    /// the near child: the even child of a pair is the one with the smaller centre on it.
+    pub parent: u32,
+    pub bmax: [f32; 3],
+    /// Leaf: (first triangle << LEAF_COUNT_BITS) | count. Interior: (even child << LEAF_COUNT_BITS),
+    /// count 0.
+    pub leaf: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuParentNode>() == 32);
+
+/// How the BVH is laid out for stackless traversal on the GPU. Each has its flatten code, its
+/// CPU twin and its shader (`shaders/include/traverse_*.glsl`, picked by a `-D LAYOUT_*` define
+/// per shader variant).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
+pub enum LayoutKind {
+    /// Threaded BVH2 with escape links (Smits 1998): one fixed child order, 32 B per node.
+    #[default]
+    Threaded,
+    /// Six threaded orders of the same tree, one per dominant ray axis and sign, picked per ray:
+    /// near-to-far without a stack, at 6x the node memory.
+    MultiOrder,
+    /// Parent links walked by the Hapala et al. 2011 state machine: ordered by the split axis
+    /// per node (the node tests of an ordered stack traversal), 32 B per node.
+    ParentLink,
+}
+
+impl LayoutKind {
+    pub const ALL: [LayoutKind; 3] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink];
+
+    /// The suffix of this layout's shader variants (`pipeline::variants`): "" for threaded, so
+    /// a shader with no layout variants walks the default layout.
+    pub fn variant_suffix(self) -> &'static str {
+        match self {
+            LayoutKind::Threaded => "",
+            LayoutKind::MultiOrder => "_multi_order",
+            LayoutKind::ParentLink => "_parent_link",
+        }
+    }
+
+    /// The name on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            LayoutKind::Threaded => "threaded",
+            LayoutKind::MultiOrder => "multi-order",
+            LayoutKind::ParentLink => "parent-link",
+        }
+    }
+}
 
 /// A triangle in leaf order, with what intersection needs and nothing else.
 #[repr(C)]

@@ -2,5 +2,6 @@
 
 pub mod compare;
 pub mod image;
+pub mod npy;
 
 pub use self::image::{check_writable, read_image, write_image, ImageFormat};

@@ -14,8 +14,16 @@ pub struct Variant {
     pub defines: &'static [&'static str],
 }
 
+// BVH layouts: the unsuffixed variant walks the threaded layout; `_multi_order` and
+// `_parent_link` variants (names from `LayoutKind::variant_suffix`) walk the others. A shader
+// that traces rays needs one entry per layout to honour `--layout`.
 pub const VARIANTS: &[Variant] = &[
     Variant { name: "whitted", source: "whitted.comp", defines: &[] },
+    Variant { name: "whitted_multi_order", source: "whitted.comp", defines: &["LAYOUT_MULTI_ORDER"] },
+    Variant { name: "whitted_parent_link", source: "whitted.comp", defines: &["LAYOUT_PARENT_LINK"] },
     Variant { name: "trace", source: "trace.comp", defines: &[] },
+    Variant { name: "trace_multi_order", source: "trace.comp", defines: &["LAYOUT_MULTI_ORDER"] },
+    Variant { name: "trace_parent_link", source: "trace.comp", defines: &["LAYOUT_PARENT_LINK"] },
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
+    Variant { name: "layout_probe_parent_link", source: "test/layout_probe.comp", defines: &["LAYOUT_PARENT_LINK"] },
 ];

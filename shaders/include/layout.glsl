@@ -10,6 +10,13 @@ struct GpuNode {
     uint leaf;
 };
 
+struct GpuParentNode {
+    vec3 bmin;
+    uint parent;
+    vec3 bmax;
+    uint leaf;
+};
+
 struct GpuTriangle {
     vec3 v0;
     uint prim;

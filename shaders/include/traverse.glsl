@@ -1,8 +1,8 @@
-// Stackless traversal of the threaded BVH2. CPU twin: cpu_trace::trace (host/layout/cpu_trace.rs).
-//
-// Nodes are in depth-first pre-order; a box hit on an interior node continues at the next
-// node (its left child), anything else continues at the node's escape link (Smits 1998).
-// Closest-hit queries shrink tmax to the best hit, so nodes that start beyond it are skipped.
+// The traversal interface every integrator uses: trace_closest() and occluded(), returning a Hit.
+// The BVH layout behind them is picked at compile time by a define per shader variant
+// (host/pipeline/variants.rs): LAYOUT_MULTI_ORDER, LAYOUT_PARENT_LINK, or none (threaded).
+// Each layout file defines `Hit traverse(origin, dir, tmin, tmax, any_hit)`; its CPU twin is named
+// in its first line.
 // Needs bvh_bindings.glsl and intersect.glsl.
 #ifndef VKRT_TRAVERSE_GLSL
 #define VKRT_TRAVERSE_GLSL
@@ -19,8 +19,7 @@ struct Hit {
     uint slot;
 };
 
-Hit trace_threaded(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
-    RayPre r = ray_pre(origin, dir, tmin);
+Hit hit_none() {
     Hit hit;
     hit.t = 1.0 / 0.0;
     hit.prim = PRIM_NONE;
@@ -29,51 +28,53 @@ Hit trace_threaded(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) 
     hit.nodes_visited = 0u;
     hit.tris_tested = 0u;
     hit.slot = 0u;
-    const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
-    uint index = nodes.length() == 0 ? NODE_NONE : 0u;
-    while (index != NODE_NONE) {
-        GpuNode node = nodes[index];
-        hit.nodes_visited++;
-        float t_enter;
-        if (!intersect_box(r, node.bmin, node.bmax, tmax, t_enter)) {
-            index = node.escape;
-            continue;
-        }
-        uint count = node.leaf & count_mask;
-        if (count == 0u) {
-            index++;
-            continue;
-        }
-        uint first = node.leaf >> LEAF_COUNT_BITS;
-        for (uint i = first; i < first + count; i++) {
-            GpuTriangle tri = triangles[i];
-            hit.tris_tested++;
-            float t, u, v;
-            if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
-                tmax = t;
-                hit.t = t;
-                hit.prim = tri.prim;
-                hit.u = u;
-                hit.v = v;
-                hit.slot = i;
-                if (any_hit) return hit;
-            }
-        }
-        index = node.escape;
-    }
     return hit;
 }
 
-// The interface every integrator uses; layouts differ only behind it.
+// Test a leaf's triangles in order, shrinking tmax and updating hit on each closer hit; true if
+// any was hit. An any-hit query stops at the first hit. CPU twin: cpu_trace::test_leaf.
+bool test_leaf(uint leaf, RayPre r, inout float tmax, inout Hit hit, bool any_hit) {
+    uint first = leaf >> LEAF_COUNT_BITS;
+    uint count = leaf & ((1u << LEAF_COUNT_BITS) - 1u);
+    bool found = false;
+    for (uint i = first; i < first + count; i++) {
+        GpuTriangle tri = triangles[i];
+        hit.tris_tested++;
+        float t, u, v;
+        if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
+            tmax = t;
+            hit.t = t;
+            hit.prim = tri.prim;
+            hit.u = u;
+            hit.v = v;
+            hit.slot = i;
+            found = true;
+            if (any_hit) break;
+        }
+    }
+    return found;
+}
+
+#if defined(LAYOUT_PARENT_LINK)
+#include "traverse_parent_link.glsl"
+#elif defined(LAYOUT_MULTI_ORDER)
+#include "traverse_threaded.glsl"
+#include "traverse_multi_order.glsl"
+#else
+#include "traverse_threaded.glsl"
+Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    return traverse_threaded_from(0u, ray_pre(origin, dir, tmin), tmax, any_hit);
+}
+#endif
 
 // Closest hit along origin + t*dir for tmin < t < tmax.
 Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax) {
-    return trace_threaded(origin, dir, tmin, tmax, false);
+    return traverse(origin, dir, tmin, tmax, false);
 }
 
 // Shadow query: is anything opaque between origin + tmin*dir and origin + tmax*dir?
 bool occluded(vec3 origin, vec3 dir, float tmin, float tmax) {
-    return trace_threaded(origin, dir, tmin, tmax, true).prim != PRIM_NONE;
+    return traverse(origin, dir, tmin, tmax, true).prim != PRIM_NONE;
 }
 
 #endif

@@ -2,3 +2,5 @@
 
 pub mod binned_sah;
 pub mod median;
+pub mod reinsertion;
+pub mod sweep_sah;

@@ -1,0 +1,100 @@
+//! Traversal heat maps: nodes visited per pixel as a colour-mapped picture with a legend bar
+//! (the colour scale and its numbers) underneath. Drawn with a built-in digit font, so the
+//! picture needs nothing but the `image` crate.
+
+use anyhow::{anyhow, Context as _, Result};
+use image::{Rgb, RgbImage};
+use std::path::Path;
+
+/// Viridis (van der Walt & Smith 2015) at five stops, interpolated linearly: perceptually
+/// ordered and readable in grey and by colour-blind readers.
+const STOPS: [[f32; 3]; 5] = [[68.0, 1.0, 84.0], [59.0, 82.0, 139.0], [33.0, 145.0, 140.0], [94.0, 201.0, 98.0], [253.0, 231.0, 37.0]];
+
+/// Colour of `x` in [0, 1].
+pub fn colour(x: f32) -> Rgb<u8> {
+    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) } * (STOPS.len() - 1) as f32;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    let c: [u8; 3] = std::array::from_fn(|k| (STOPS[i][k] + f * (STOPS[i + 1][k] - STOPS[i][k])).round() as u8);
+    Rgb(c)
+}
+
+/// 3x5 bitmaps of 0-9, one row per 3-bit number (MSB = left).
+const DIGITS: [[u8; 5]; 10] = [
+    [7, 5, 5, 5, 7],
+    [2, 6, 2, 2, 7],
+    [7, 1, 7, 4, 7],
+    [7, 1, 7, 1, 7],
+    [5, 5, 7, 1, 1],
+    [7, 4, 7, 1, 7],
+    [7, 4, 7, 5, 7],
+    [7, 1, 2, 2, 2],
+    [7, 5, 7, 5, 7],
+    [7, 5, 7, 1, 7],
+];
+const SCALE: u32 = 2;
+
+fn draw_number(img: &mut RgbImage, value: u32, x: u32, y: u32) {
+    for (k, ch) in value.to_string().bytes().enumerate() {
+        let glyph = &DIGITS[(ch - b'0') as usize];
+        for (row, bits) in glyph.iter().enumerate() {
+            for col in 0..3u32 {
+                if bits & (4 >> col) != 0 {
+                    for dy in 0..SCALE {
+                        for dx in 0..SCALE {
+                            let px = x + (k as u32 * 4 + col) * SCALE + dx;
+                            let py = y + row as u32 * SCALE + dy;
+                            if px < img.width() && py < img.height() {
+                                img.put_pixel(px, py, Rgb([255, 255, 255]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The heat map of `counts` (row-major, `width` x `height`), scaled from 0 to the largest count,
+/// with a legend underneath: the colour bar, and the counts at its ends and quarters.
+pub fn render(counts: &[u32], width: u32, height: u32) -> Result<RgbImage> {
+    if counts.len() != (width as usize) * (height as usize) || width == 0 {
+        return Err(anyhow!("heat map: {} counts for {width}x{height} pixels", counts.len()));
+    }
+    let max = counts.iter().copied().max().unwrap_or(0).max(1);
+    let legend = 10 * SCALE + 14;
+    let mut img = RgbImage::new(width, height + legend);
+    for (i, &c) in counts.iter().enumerate() {
+        img.put_pixel(i as u32 % width, i as u32 / width, colour(c as f32 / max as f32));
+    }
+    let bar_y = height + 4;
+    for x in 0..width {
+        let c = colour(x as f32 / (width - 1).max(1) as f32);
+        for y in bar_y..bar_y + 8 {
+            img.put_pixel(x, y, c);
+        }
+    }
+    let label_w = |v: u32| v.to_string().len() as u32 * 4 * SCALE;
+    for q in 0..=4u32 {
+        let v = max * q / 4;
+        let x = ((width - 1) * q / 4).saturating_sub(label_w(v) * q / 4);
+        draw_number(&mut img, v, x, bar_y + 10);
+    }
+    Ok(img)
+}
+
+/// Render and write a heat map as PNG, atomically.
+pub fn write(path: &Path, counts: &[u32], width: u32, height: u32) -> Result<()> {
+    let img = render(counts, width, height)?;
+    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(name);
+    let result = img
+        .save_with_format(&tmp, image::ImageFormat::Png)
+        .map_err(anyhow::Error::from)
+        .and_then(|_| std::fs::rename(&tmp, path).map_err(anyhow::Error::from));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.with_context(|| format!("writing heat map {}", path.display()))
+}

@@ -1,0 +1,14 @@
+// Multi-order threaded BVH: six threaded orders, one per dominant ray axis and sign, each
+// visiting children near-first. CPU twin: multi_order::trace (host/layout/multi_order.rs).
+#ifndef VKRT_TRAVERSE_MULTI_ORDER_GLSL
+#define VKRT_TRAVERSE_MULTI_ORDER_GLSL
+
+Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    RayPre r = ray_pre(origin, dir, tmin);
+    // The order of the largest |direction| component and its sign (the shear axis kz).
+    uint order = 2u * uint(r.kz) + (dir[r.kz] < 0.0 ? 1u : 0u);
+    uint per_order = uint(nodes.length()) / 6u;
+    return traverse_threaded_from(order * per_order, r, tmax, any_hit);
+}
+
+#endif

@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""Ray throughput of vkrt (on its Vulkan device, e.g. lavapipe) and of Embree 4 (PyPI `embreex`)
+on the same rays, in the same run, so the numbers compare on a shared machine.
+
+For each scene: writes primary rays (a 1024x1024 pinhole at the centre of the bounds looking
+along the widest horizontal axis: coherent, interior view) and incoherent rays (origins uniform
+in the bounds, directions uniform on the sphere) as (N, 8) float32 .npy files; times
+`vkrt trace` on them (rays/s over upload, traversal and read-back, as vkrt prints it) and
+Embree's closest-hit query (`EmbreeScene.run`, rays/s over the call); and reports how often the
+two agree on the hit triangle.
+
+The OBJ is read here with the same rules as vkrt's loader (polygons fan-triangulated in file
+order, zero-area triangles dropped), so triangle ids match between the two.
+
+Usage: python3 tools/embree_compare.py [--vkrt target/release/vkrt] [--builder B] [--layout L]
+       [--rays N] SCENE.obj...
+Needs: pip install embreex numpy
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+
+def load_obj(path):
+    """Triangles (n, 3, 3) float32, fan-triangulated in file order, zero-area ones dropped."""
+    verts, faces = [], []
+    with open(path, "r", errors="replace") as f:
+        for line in f:
+            if line.startswith("v "):
+                verts.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith("f "):
+                idx = []
+                for tok in line.split()[1:]:
+                    i = int(tok.split("/")[0])
+                    idx.append(i - 1 if i > 0 else len(verts) + i)
+                for k in range(1, len(idx) - 1):
+                    faces.append((idx[0], idx[k], idx[k + 1]))
+    v = np.asarray(verts, dtype=np.float32)
+    tris = v[np.asarray(faces, dtype=np.int64)]
+    area2 = np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), axis=1)
+    return tris[area2 > 0]
+
+
+def primary_rays(lo, hi, size):
+    centre, ext = (lo + hi) / 2, hi - lo
+    axis = 0 if ext[0] >= ext[2] else 2
+    fwd = np.zeros(3, np.float32); fwd[axis] = 1
+    up = np.array([0, 1, 0], np.float32)
+    right = np.cross(fwd, up)
+    j, i = np.mgrid[0:size, 0:size].astype(np.float32)
+    x = ((i + 0.5) / size * 2 - 1) * np.tan(np.radians(30))
+    y = (1 - (j + 0.5) / size * 2) * np.tan(np.radians(30))
+    d = fwd + x[..., None] * right + y[..., None] * up
+    d = (d / np.linalg.norm(d, axis=-1, keepdims=True)).reshape(-1, 3)
+    o = np.broadcast_to(centre, d.shape)
+    return pack(o, d)
+
+
+def incoherent_rays(lo, hi, n, rng):
+    o = lo + rng.random((n, 3), dtype=np.float32) * (hi - lo)
+    z = rng.uniform(-1, 1, n).astype(np.float32)
+    phi = rng.uniform(0, 2 * np.pi, n).astype(np.float32)
+    r = np.sqrt(np.maximum(0, 1 - z * z))
+    d = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+    return pack(o, d)
+
+
+def pack(o, d):
+    rays = np.zeros((len(d), 8), np.float32)
+    rays[:, 0:3], rays[:, 4:7], rays[:, 7] = o, d, np.inf
+    return rays
+
+
+def run_vkrt(vkrt, scene, rays_path, out_path, builder, layout):
+    cmd = [vkrt, "trace", scene, "--rays", rays_path, "--out", out_path, "--builder", builder, "--layout", layout]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    if res.returncode != 0:
+        sys.exit(f"vkrt trace failed: {res.stderr}")
+    m = re.search(r"([0-9.]+) M rays/s.*?([0-9.]+) nodes visited and ([0-9.]+) triangles", res.stderr)
+    return float(m.group(1)) * 1e6, float(m.group(2)), float(m.group(3)), np.load(out_path)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("scenes", nargs="+")
+    ap.add_argument("--vkrt", default="target/release/vkrt")
+    ap.add_argument("--builder", default="reinsertion")
+    ap.add_argument("--layout", default="parent-link")
+    ap.add_argument("--rays", type=int, default=1 << 20, help="incoherent rays per scene")
+    args = ap.parse_args()
+    from embreex import rtcore_scene
+    from embreex.mesh_construction import TriangleMesh
+
+    rng = np.random.default_rng(1)
+    tmp = tempfile.mkdtemp(prefix="vkrt-embree-")
+    print(f"vkrt: {args.builder} / {args.layout}; Embree 4 via embreex (one thread per run call)")
+    print("| scene | triangles | rays | kind | vkrt M rays/s | Embree M rays/s | vkrt / Embree | nodes/ray | tris/ray | same prim |")
+    print("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|")
+    for scene in args.scenes:
+        tris = load_obj(scene)
+        lo, hi = tris.reshape(-1, 3).min(0), tris.reshape(-1, 3).max(0)
+        es = rtcore_scene.EmbreeScene()
+        TriangleMesh(es, tris)
+        es.run(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))  # build the BVH now
+        for kind, rays in (("primary", primary_rays(lo, hi, 1024)), ("incoherent", incoherent_rays(lo, hi, args.rays, rng))):
+            rays_path, out_path = os.path.join(tmp, "rays.npy"), os.path.join(tmp, "hits.npy")
+            np.save(rays_path, rays)
+            vk_rate, nodes, tests, hits = run_vkrt(args.vkrt, scene, rays_path, out_path, args.builder, args.layout)
+            o, d = np.ascontiguousarray(rays[:, 0:3]), np.ascontiguousarray(rays[:, 4:7])
+            t0 = time.perf_counter()
+            res = es.run(o, d, output=1)
+            em_rate = len(rays) / (time.perf_counter() - t0)
+            em_prim = res["primID"].astype(np.int64)
+            vk_prim = np.where(hits["prim"] == 0xFFFFFFFF, -1, hits["prim"].astype(np.int64))
+            same = float(np.mean(em_prim == vk_prim))
+            print(f"| {os.path.basename(scene)} | {len(tris)} | {len(rays)} | {kind} | {vk_rate / 1e6:.2f} | {em_rate / 1e6:.2f} | "
+                  f"{vk_rate / em_rate:.2f} | {nodes:.1f} | {tests:.2f} | {same * 100:.2f}% |")
+
+
+if __name__ == "__main__":
+    main()
