@@ -10,7 +10,7 @@ use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
 use vkrt::integrator::ray_query::trace_rays;
 use vkrt::layout::constants::PRIM_NONE;
 use vkrt::layout::cpu_trace;
-use vkrt::layout::{GpuHit, GpuRay};
+use vkrt::layout::{GpuHit, GpuRay, LayoutKind};
 use vkrt::scene::procedural::scene_of;
 use vkrt::scene::{Scene, Triangle};
 
@@ -22,22 +22,22 @@ fn ray(o: Vec3, d: Vec3) -> GpuRay {
     GpuRay { origin: o.to_array(), tmin: 0.0, direction: d.to_array(), tmax: f32::INFINITY }
 }
 
-/// Traces `rays` on the GPU with both builders and checks every hit against the CPU twin and
+/// Traces `rays` on the GPU with every builder and layout and checks every hit against the CPU twin and
 /// brute force; returns the GPU hits of the last builder.
 fn check(name: &str, scene: &Scene, rays: &[GpuRay]) -> Vec<GpuHit> {
     let ctx = common::gpu_context();
     let mut last = Vec::new();
-    for builder in [BuilderKind::Median, BuilderKind::Sah] {
+    for (builder, layout) in BuilderKind::ALL.into_iter().flat_map(|b| LayoutKind::ALL.map(|l| (b, l))) {
         let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
         let tree = bvh::build(builder, &boxes, &centroids, &BuildConfig::default());
         bvh::validate::validate(&tree, &boxes).unwrap_or_else(|e| panic!("{name} {builder:?}: {e}"));
-        let prepared = PreparedScene::new(scene, builder, &BuildConfig::default()).unwrap();
+        let prepared = PreparedScene::with_layout(scene, builder, layout, &BuildConfig::default()).unwrap();
         let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
         let hits = trace_rays(&ctx, &gpu, rays, false).unwrap();
         for (i, (r, g)) in rays.iter().zip(&hits).enumerate() {
-            let twin = cpu_trace::trace(&prepared.flat.nodes, &prepared.flat.triangles, r, false);
+            let twin = prepared.flat.trace(r, false);
             let brute = cpu_trace::brute_force(&scene.triangles, r);
-            assert_eq!(twin.prim, g.prim, "{name} {builder:?} ray {i} {r:?}: GPU vs CPU twin");
+            assert_eq!(twin.prim, g.prim, "{name} {builder:?} {layout:?} ray {i} {r:?}: GPU vs CPU twin");
             assert_eq!(brute.t == f32::INFINITY, g.prim == PRIM_NONE, "{name} {builder:?} ray {i}: hit vs brute force");
             if brute.prim != PRIM_NONE {
                 assert!((brute.t - g.t).abs() <= 1e-5 * brute.t, "{name} {builder:?} ray {i}: t {} vs {}", g.t, brute.t);

@@ -4,7 +4,7 @@
 //! 1e-4 to 1e6 and moved up to 1e5 from the origin; rays from inside in random directions and
 //! aimed exactly at every vertex and edge midpoint. Every ray must hit, leaving through the
 //! inside of the mesh (first hit on a back face, or exactly on a shared vertex or edge), on the
-//! GPU and on its CPU twin.
+//! GPU and on its CPU twin, for every layout.
 
 mod common;
 
@@ -15,7 +15,7 @@ use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
 use vkrt::integrator::ray_query::trace_rays;
 use vkrt::layout::constants::PRIM_NONE;
 use vkrt::layout::cpu_trace;
-use vkrt::layout::GpuRay;
+use vkrt::layout::{GpuRay, LayoutKind};
 use vkrt::scene::closed_meshes::{icosphere, subdivided_cube, torus, IndexedMesh};
 use vkrt::scene::procedural::scene_of;
 
@@ -81,12 +81,15 @@ fn leaks(mesh: &IndexedMesh, name: &str, scale: f32, offset: Vec3, ctx: &vkrt::g
             push(rng.unit_vector());
         }
     }
-    let prepared = PreparedScene::new(&scene, BuilderKind::Sah, &BuildConfig::default()).unwrap();
+    let mut leaked = 0;
+    let mut tried = 0;
+    for layout in LayoutKind::ALL {
+    let prepared = PreparedScene::with_layout(&scene, BuilderKind::Sah, layout, &BuildConfig::default()).unwrap();
     let gpu = GpuScene::upload(ctx, &prepared).unwrap();
     let gpu_hits = trace_rays(ctx, &gpu, &rays, false).unwrap();
-    let mut leaked = 0;
+    tried += 2 * rays.len();
     for (ray, g) in rays.iter().zip(&gpu_hits) {
-        let c = cpu_trace::trace(&prepared.flat.nodes, &prepared.flat.triangles, ray, false);
+        let c = prepared.flat.trace(ray, false);
         for h in [c, *g] {
             let dir = Vec3::from(ray.direction);
             let ok = h.prim != PRIM_NONE && {
@@ -109,7 +112,8 @@ fn leaks(mesh: &IndexedMesh, name: &str, scale: f32, offset: Vec3, ctx: &vkrt::g
             leaked += (!ok) as usize;
         }
     }
-    (leaked, rays.len() * 2)
+    }
+    (leaked, tried)
 }
 
 #[test]
@@ -128,7 +132,7 @@ fn no_ray_leaks_out_of_closed_meshes_at_any_scale() {
                     continue;
                 }
                 let (leaked, rays) = leaks(mesh, name, scale, offset, &ctx);
-                println!("{name:9} scale {scale:8.0e} offset {:>22}: {rays} rays (GPU + CPU), {leaked} leaks", format!("{offset}"));
+                println!("{name:9} scale {scale:8.0e} offset {:>22}: {rays} rays (GPU + CPU, 3 layouts), {leaked} leaks", format!("{offset}"));
                 assert_eq!(leaked, 0, "{name} at scale {scale:e}, offset {offset}: {leaked} of {rays} rays leaked");
                 total += rays;
             }
@@ -171,6 +175,7 @@ fn transformed(scene: &Scene, s: f32, o: Vec3) -> Scene {
 }
 
 fn render(ctx: &vkrt::gpu::Context, scene: &Scene, size: u32) -> Image {
+    // The image does not depend on the layout (tests/golden.rs); the threaded one compiles fastest.
     let prepared = PreparedScene::new(scene, BuilderKind::Sah, &BuildConfig::default()).unwrap();
     let gpu = GpuScene::upload(ctx, &prepared).unwrap();
     let settings = RenderSettings { width: size, height: size, spp: 1, max_depth: 4, ..RenderSettings::default() };
