@@ -25,6 +25,11 @@ pub struct RayQuery<'a> {
 
 impl<'a> RayQuery<'a> {
     pub fn new(ctx: &'a Context, gpu: &GpuScene) -> Result<Self> {
+        Self::with_shader(ctx, gpu, shaders::for_layout("trace", gpu.layout)?)
+    }
+
+    /// The same with another `trace.comp` variant for the scene's layout (e.g. `trace_plain`).
+    pub fn with_shader(ctx: &'a Context, gpu: &GpuScene, spv: &[u8]) -> Result<Self> {
         if gpu.triangle_count == 0 {
             return Ok(Self { ctx, gpu: None });
         }
@@ -37,7 +42,6 @@ impl<'a> RayQuery<'a> {
             (BINDING_RAYS, BindingKind::Storage),
             (BINDING_HITS, BindingKind::Storage),
         ];
-        let spv = shaders::for_layout("trace", gpu.layout)?;
         let pipeline = ComputePipeline::new(ctx, "trace", spv, &bindings, std::mem::size_of::<GpuPush>() as u32)?;
         pipeline.bind(BINDING_NODES, &gpu.nodes)?;
         pipeline.bind(BINDING_TRIANGLES, &gpu.triangles)?;

@@ -24,6 +24,8 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "trace", source: "trace.comp", defines: &[] },
     Variant { name: "trace_multi_order", source: "trace.comp", defines: &["LAYOUT_MULTI_ORDER"] },
     Variant { name: "trace_parent_link", source: "trace.comp", defines: &["LAYOUT_PARENT_LINK"] },
+    // The textbook intersection tests, only to measure what the robust ones cost.
+    Variant { name: "trace_plain", source: "trace.comp", defines: &["PLAIN_INTERSECT"] },
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
     Variant { name: "layout_probe_parent_link", source: "test/layout_probe.comp", defines: &["LAYOUT_PARENT_LINK"] },
 ];

@@ -9,6 +9,7 @@ const float FLOAT_MAX = 3.4028234663852886e38;
 
 struct RayPre {
     vec3 origin;
+    vec3 dir;
     vec3 inv_dir;
     float tmin;
     int kx;
@@ -26,7 +27,12 @@ float safe_reciprocal(float d) {
 RayPre ray_pre(vec3 origin, vec3 dir, float tmin) {
     RayPre r;
     r.origin = origin;
+    r.dir = dir;
+#ifdef PLAIN_INTERSECT
+    r.inv_dir = 1.0 / dir;
+#else
     r.inv_dir = vec3(safe_reciprocal(dir.x), safe_reciprocal(dir.y), safe_reciprocal(dir.z));
+#endif
     r.tmin = tmin;
     vec3 a = abs(dir);
     r.kz = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
@@ -39,6 +45,7 @@ RayPre ray_pre(vec3 origin, vec3 dir, float tmin) {
     return r;
 }
 
+#ifndef PLAIN_INTERSECT
 // Entry distance if the ray overlaps the box within [tmin, tmax], else -1 with `hit` false.
 // Any NaN makes the final comparison false: a miss.
 bool intersect_box(RayPre r, vec3 bmin, vec3 bmax, float tmax, out float t_enter) {
@@ -83,5 +90,41 @@ bool intersect_triangle(RayPre r, vec3 v0, vec3 v1, vec3 v2, float tmax, out flo
     v = e2 * inv_det;
     return true;
 }
+
+#else
+// PLAIN_INTERSECT: the textbook tests, kept only to measure what robustness costs (the
+// `trace_plain` variant, tools/robust_cost.rs). Not used for rendering: the slab test has no
+// padding and divides 0 by 0 for axis-parallel rays on a slab plane; Möller & Trumbore 1997
+// with an epsilon on the determinant lets rays slip between triangles that share an edge.
+bool intersect_box(RayPre r, vec3 bmin, vec3 bmax, float tmax, out float t_enter) {
+    vec3 t0 = (bmin - r.origin) * r.inv_dir;
+    vec3 t1 = (bmax - r.origin) * r.inv_dir;
+    vec3 near = min(t0, t1);
+    vec3 far = max(t0, t1);
+    t_enter = max(max(max(near.x, near.y), near.z), r.tmin);
+    float t_exit = min(min(min(far.x, far.y), far.z), tmax);
+    return t_enter <= t_exit;
+}
+
+bool intersect_triangle(RayPre r, vec3 v0, vec3 v1, vec3 v2, float tmax, out float t, out float u, out float v) {
+    const float EPSILON = 1e-8;
+    vec3 e1 = v1 - v0;
+    vec3 e2 = v2 - v0;
+    vec3 p = cross(r.dir, e2);
+    float det = dot(e1, p);
+    t = 0.0; u = 0.0; v = 0.0;
+    if (abs(det) < EPSILON) return false;
+    float inv_det = 1.0 / det;
+    vec3 s = r.origin - v0;
+    u = dot(s, p) * inv_det;
+    if (u < 0.0 || u > 1.0) return false;
+    vec3 q = cross(s, e1);
+    v = dot(r.dir, q) * inv_det;
+    if (v < 0.0 || u + v > 1.0) return false;
+    t = dot(e2, q) * inv_det;
+    return t > r.tmin && t < tmax;
+}
+
+#endif
 
 #endif
