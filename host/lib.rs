@@ -7,6 +7,7 @@
 
 pub mod bvh;
 pub mod cli;
+pub mod cli_path;
 pub mod error;
 pub mod gpu;
 pub mod integrator;

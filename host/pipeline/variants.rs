@@ -16,6 +16,7 @@ pub struct Variant {
 
 pub const VARIANTS: &[Variant] = &[
     Variant { name: "whitted", source: "whitted.comp", defines: &[] },
+    Variant { name: "path", source: "path.comp", defines: &[] },
     Variant { name: "trace", source: "trace.comp", defines: &[] },
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
 ];
