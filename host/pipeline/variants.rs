@@ -19,4 +19,5 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "path", source: "path.comp", defines: &[] },
     Variant { name: "trace", source: "trace.comp", defines: &[] },
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
+    Variant { name: "bsdf_probe", source: "test/bsdf_probe.comp", defines: &[] },
 ];
