@@ -187,15 +187,10 @@ pub fn render(
     even_buf.write(bytemuck::cast_slice(&acc.even))?;
     let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
     let pipeline = ComputePipeline::new(ctx, "path", shaders::PATH, &bindings, std::mem::size_of::<GpuPush>() as u32)?;
+    bind_all(&pipeline, &gpu.bindings())?;
     bind_all(
         &pipeline,
         &[
-            (BINDING_NODES, &gpu.nodes),
-            (BINDING_TRIANGLES, &gpu.triangles),
-            (BINDING_SHADING, &gpu.shading),
-            (BINDING_MATERIALS, &gpu.materials),
-            (BINDING_LIGHTS, &gpu.lights),
-            (BINDING_EMITTERS, &gpu.emitters),
             (BINDING_FRAME, &frame_buf),
             (BINDING_ACCUM, &sum_buf),
             (BINDING_LIGHT_PICKS, &picks),

@@ -41,19 +41,8 @@ pub fn render(
     let accum = Buffer::new(ctx, "accumulation", pixels * 16, vk::BufferUsageFlags::STORAGE_BUFFER, MemoryLocation::Device)?;
     accum.clear()?;
     let pipeline = ComputePipeline::new(ctx, "whitted", shaders::WHITTED, INTEGRATOR_BINDINGS, std::mem::size_of::<GpuPush>() as u32)?;
-    bind_all(
-        &pipeline,
-        &[
-            (BINDING_NODES, &gpu.nodes),
-            (BINDING_TRIANGLES, &gpu.triangles),
-            (BINDING_SHADING, &gpu.shading),
-            (BINDING_MATERIALS, &gpu.materials),
-            (BINDING_LIGHTS, &gpu.lights),
-            (BINDING_EMITTERS, &gpu.emitters),
-            (BINDING_FRAME, &frame_buf),
-            (BINDING_ACCUM, &accum),
-        ],
-    )?;
+    bind_all(&pipeline, &gpu.bindings())?;
+    bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);
     let batches = settings.spp.div_ceil(batch);
     let total = tile_count(settings) * batches as u64;
