@@ -31,6 +31,10 @@ pub enum Command {
     Trace(crate::bench::trace_cmd::TraceArgs),
     /// Compare every BVH builder x layout on scenes: a table, CSV or JSON, and a heat map.
     Bvh(crate::bench::bvh_table::BvhArgs),
+    /// Add path-traced checkpoints made with different seeds into one image or checkpoint.
+    Merge(crate::cli_path::MergeArgs),
+    /// Print RMSE, relMSE, PSNR and per-channel mean differences of an image against a reference.
+    Compare(crate::cli_path::CompareArgs),
 }
 
 #[derive(Debug, Args)]
@@ -45,6 +49,8 @@ pub struct DeviceArgs {
 pub enum IntegratorKind {
     /// Whitted-style ray tracing: Blinn-Phong, hard shadows, mirrors, refraction.
     Whitted,
+    /// Progressive unbiased path tracing: light sampling with MIS, Russian roulette.
+    Path,
 }
 
 #[derive(Debug, Args)]
@@ -60,12 +66,13 @@ pub struct RenderArgs {
     pub height: u32,
     #[arg(long, value_enum, default_value_t = IntegratorKind::Whitted)]
     pub integrator: IntegratorKind,
-    /// Rays per path (1 = primary rays only).
-    #[arg(long, default_value_t = 7)]
-    pub max_depth: u32,
-    /// Samples per pixel: 1 samples the pixel centre; more are jittered inside the pixel.
-    #[arg(long, default_value_t = 1)]
-    pub spp: u32,
+    /// Rays per path (1 = primary rays only). Default: 7 for Whitted, unbounded for the path tracer.
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Samples per pixel. Whitted (default 1): 1 samples the pixel centre, more are jittered.
+    /// Path tracer: the total to stop at (default 16 when no --time or --target-relmse).
+    #[arg(long)]
+    pub spp: Option<u32>,
     /// Seed for the jittered samples: the same seed gives the same image.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -81,6 +88,8 @@ pub struct RenderArgs {
     pub verbose: bool,
     #[command(flatten)]
     pub device: DeviceArgs,
+    #[command(flatten)]
+    pub path: crate::cli_path::PathArgs,
 }
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -89,6 +98,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Info(args) => info(&args),
         Command::Trace(args) => crate::bench::trace_cmd::run(&args).map(|_| ()),
         Command::Bvh(args) => crate::bench::bvh_table::run(&args),
+        Command::Merge(args) => crate::cli_path::merge(&args),
+        Command::Compare(args) => crate::cli_path::compare_images(&args),
     }
 }
 
@@ -172,25 +183,42 @@ fn render(args: &RenderArgs) -> Result<()> {
     let settings = RenderSettings {
         width: args.width,
         height: args.height,
-        spp: args.spp,
-        max_depth: args.max_depth,
+        spp: args.spp.unwrap_or(1),
+        max_depth: args.max_depth.unwrap_or(7),
         seed: args.seed,
         ..RenderSettings::default()
     };
     let mut progress = DelayedProgress::new("rendering");
     let (image, stats) = match args.integrator {
         IntegratorKind::Whitted => whitted::render(&ctx, &scene, &gpu, &settings, &mut |d, t| progress.update(d, t))?,
+        IntegratorKind::Path => {
+            let run = crate::cli_path::PathRun {
+                scene_path: &args.scene,
+                output: &args.output,
+                width: args.width,
+                height: args.height,
+                seed: args.seed,
+                spp: args.spp,
+                max_depth: args.max_depth,
+                args: &args.path,
+            };
+            crate::cli_path::render(&ctx, &scene, &gpu, &run)?
+        }
     };
     progress.finish();
-    output::write_image(&args.output, &image)?;
+    if args.integrator == IntegratorKind::Whitted {
+        output::write_image(&args.output, &image)?;
+    }
     ctx.check_validation().context("Vulkan validation")?;
     eprintln!(
-        "rendered {} at {}x{}, {} spp, depth {} in {:.3} s on {}{}",
+        "rendered {} at {}x{}, {} in {:.3} s on {}{}",
         args.output.display(),
         args.width,
         args.height,
-        args.spp,
-        args.max_depth,
+        match args.integrator {
+            IntegratorKind::Whitted => format!("{} spp, depth {}", settings.spp, settings.max_depth),
+            IntegratorKind::Path => format!("depth {}", args.max_depth.map_or("unbounded".into(), |d| d.to_string())),
+        },
         stats.seconds,
         ctx.info.name,
         if stats.nonfinite_samples > 0 { format!(" ({} NaN/Inf samples dropped)", stats.nonfinite_samples) } else { String::new() }

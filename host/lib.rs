@@ -8,6 +8,7 @@
 pub mod bench;
 pub mod bvh;
 pub mod cli;
+pub mod cli_path;
 pub mod error;
 pub mod gpu;
 pub mod integrator;

@@ -80,6 +80,8 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
         rust_fields!(GpuPush { tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, _pad0 }),
         rust_fields!(GpuRay { origin, tmin, direction, tmax }),
         rust_fields!(GpuHit { t, prim, u, v, nodes_visited, tris_tested, _pad0, _pad1 }),
+        rust_fields!(GpuLightPick { pmf, alias, threshold, _pad0 }),
+        rust_fields!(GpuPathParams { max_depth, rr_depth, sampler_kind, sample_rate, pick_count, nee, inv_total_weight, _pad0 }),
     ];
     for (name, size, fields) in expected {
         let s = structs.get(name).unwrap_or_else(|| panic!("struct {name} is missing from the SPIR-V"));
@@ -105,6 +107,9 @@ fn bindings_and_array_strides_match() {
         (BINDING_ACCUM, "Accum", 16),
         (BINDING_RAYS, "Rays", size_of::<GpuRay>()),
         (BINDING_HITS, "Hits", size_of::<GpuHit>()),
+        (BINDING_LIGHT_PICKS, "LightPicks", size_of::<GpuLightPick>()),
+        (BINDING_PATH_PARAMS, "PathParams", size_of::<GpuPathParams>()),
+        (BINDING_ACCUM_EVEN, "AccumEven", 16),
     ];
     let mut found = HashMap::new();
     for (_, var) in module.global_variables.iter() {

@@ -56,6 +56,19 @@ pub struct GpuScene<'a> {
 }
 
 impl<'a> GpuScene<'a> {
+    /// The scene's buffers by binding number, for every integrator shader.
+    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 6] {
+        use crate::layout::constants::*;
+        [
+            (BINDING_NODES, &self.nodes),
+            (BINDING_TRIANGLES, &self.triangles),
+            (BINDING_SHADING, &self.shading),
+            (BINDING_MATERIALS, &self.materials),
+            (BINDING_LIGHTS, &self.lights),
+            (BINDING_EMITTERS, &self.emitters),
+        ]
+    }
+
     pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let max = ctx.info.max_storage_buffer_range as usize;

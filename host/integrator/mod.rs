@@ -1,7 +1,13 @@
 //! Integrators: compute shaders that turn a scene on the GPU into an image.
 
+pub mod accumulation;
+pub mod checkpoint;
+pub mod frame;
 pub mod gpu_scene;
+pub mod light_table;
+pub mod path;
 pub mod ray_query;
+pub mod tiles;
 pub mod whitted;
 
 /// A linear-radiance RGB image, row 0 at the top.

@@ -34,6 +34,14 @@ shared_constants! {
     BINDING_RAYS = 8;
     /// Hit records for batch queries (`GpuHit[]`).
     BINDING_HITS = 9;
+    /// The path tracer's light-selection alias table (`GpuLightPick[]`): emissive triangles
+    /// first, then point, directional and spot lights.
+    BINDING_LIGHT_PICKS = 10;
+    /// The path tracer's settings (`GpuPathParams`, uniform buffer).
+    BINDING_PATH_PARAMS = 11;
+    /// Radiance of the even-indexed samples only, one vec4 per pixel: with BINDING_ACCUM it
+    /// gives two independent half-images whose difference estimates the error.
+    BINDING_ACCUM_EVEN = 12;
 
     /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
     /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).
@@ -63,4 +71,15 @@ shared_constants! {
     WHITTED_EMITTER_SAMPLES = 4;
     /// Whitted ray-tree stack entries; max depth is clamped to this minus one.
     WHITTED_STACK_SIZE = 16;
+
+    /// Path tracer samplers (`GpuPathParams::sampler`).
+    SAMPLER_INDEPENDENT = 0;
+    /// Owen-scrambled Sobol (Burley 2020), the default.
+    SAMPLER_SOBOL = 1;
+    /// `sample_rate`^2 strata per pixel for the pixel position, independent elsewhere.
+    SAMPLER_STRATIFIED = 2;
+    /// Path depth at which Russian roulette starts (Mitsuba's default, which the references use).
+    PATH_RR_DEPTH = 5;
+    /// `GpuPathParams::max_depth` meaning "unbounded".
+    PATH_DEPTH_UNBOUNDED = 0xFFFF_FFFF;
 }

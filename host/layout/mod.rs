@@ -233,3 +233,39 @@ pub struct GpuHit {
     pub _pad1: u32,
 }
 const _: () = assert!(std::mem::size_of::<GpuHit>() == 32);
+
+/// One entry of the light-selection alias table (Vose 1991, "A linear algorithm for
+/// generating random numbers with a given distribution"): pick entry i uniformly, keep it if
+/// u < `threshold`, else take `alias`. `pmf` is the probability of selecting entry i itself.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuLightPick {
+    pub pmf: f32,
+    pub alias: u32,
+    pub threshold: f32,
+    pub _pad0: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuLightPick>() == 16);
+
+/// The path tracer's per-render settings (uniform buffer, std140).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuPathParams {
+    /// Path segments (rays) per path; `PATH_DEPTH_UNBOUNDED` for none.
+    pub max_depth: u32,
+    /// Depth from which Russian roulette may end a path.
+    pub rr_depth: u32,
+    /// `SAMPLER_*`.
+    pub sampler_kind: u32,
+    /// Strata per pixel side for `SAMPLER_STRATIFIED`.
+    pub sample_rate: u32,
+    /// Entries in the light-selection table (emissive triangles, then lights).
+    pub pick_count: u32,
+    /// 1: next-event estimation with MIS; 0: BSDF sampling only.
+    pub nee: u32,
+    /// 1 / the total selection weight (see `integrator::light_table`), so that an emissive
+    /// triangle's area density is pi * mean(Ke) * inv_total_weight.
+    pub inv_total_weight: f32,
+    pub _pad0: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 32);

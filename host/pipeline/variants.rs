@@ -21,6 +21,9 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "whitted", source: "whitted.comp", defines: &[] },
     Variant { name: "whitted_multi_order", source: "whitted.comp", defines: &["LAYOUT_MULTI_ORDER"] },
     Variant { name: "whitted_parent_link", source: "whitted.comp", defines: &["LAYOUT_PARENT_LINK"] },
+    Variant { name: "path", source: "path.comp", defines: &[] },
+    Variant { name: "path_multi_order", source: "path.comp", defines: &["LAYOUT_MULTI_ORDER"] },
+    Variant { name: "path_parent_link", source: "path.comp", defines: &["LAYOUT_PARENT_LINK"] },
     Variant { name: "trace", source: "trace.comp", defines: &[] },
     Variant { name: "trace_multi_order", source: "trace.comp", defines: &["LAYOUT_MULTI_ORDER"] },
     Variant { name: "trace_parent_link", source: "trace.comp", defines: &["LAYOUT_PARENT_LINK"] },
@@ -28,4 +31,5 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "trace_plain", source: "trace.comp", defines: &["PLAIN_INTERSECT"] },
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
     Variant { name: "layout_probe_parent_link", source: "test/layout_probe.comp", defines: &["LAYOUT_PARENT_LINK"] },
+    Variant { name: "bsdf_probe", source: "test/bsdf_probe.comp", defines: &[] },
 ];

@@ -12,6 +12,16 @@ use glam::Vec3;
 /// - `Directional`: `intensity`, from `direction` (which points toward the light).
 /// - `Spot`: a sphere of radius `radius` at `position` whose emission faces `direction`:
 ///   the lab renderer's estimator, `intensity * 4 pi r^2 * max(0, cos) / d^2`, divided by pi.
+///
+/// How the path tracer reads them (physically based; a Lambert surface reflects Kd / pi of the
+/// irradiance E, so its radiance is Kd E / pi: pi times darker than Whitted's Kd E for point
+/// and directional lights, the same for emitters):
+/// - `Point`: radiant intensity I = `intensity` (W/sr) in every direction; E = I cos / d^2.
+/// - `Directional`: irradiance E = `intensity` on a surface facing `direction`; E cos otherwise.
+/// - `Spot`: radiant intensity `intensity * 4 pi r^2 * max(0, cos)` (the lab estimator's
+///   numerator, cos measured from `direction`); E = that cos_surface / d^2.
+/// - Emissive triangles: radiance Ke from the front face, sampled by area.
+/// All are picked for light sampling in proportion to their power (`integrator::light_table`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
     Point { position: Vec3, intensity: Vec3 },

@@ -75,3 +75,33 @@ pub fn scene_of(triangles: Vec<Triangle>) -> Scene {
     scene.ambient = Vec3::splat(0.05);
     scene
 }
+
+/// A sphere tessellated from an octahedron whose faces are split `level` times (8 * 4^level
+/// triangles), vertices on the sphere. Front faces (counter-clockwise) point outward, or
+/// inward with `inward` (a furnace seen from inside). Faceted: its shading normals are the
+/// geometric ones.
+pub fn sphere(center: Vec3, radius: f32, level: u32, material: u32, inward: bool) -> Vec<Triangle> {
+    let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
+    // Counter-clockwise seen from outside.
+    let mut faces: Vec<[Vec3; 3]> = vec![
+        [x, y, z], [y, -x, z], [-x, -y, z], [-y, x, z],
+        [y, x, -z], [-x, y, -z], [-y, -x, -z], [x, -y, -z],
+    ];
+    for _ in 0..level {
+        faces = faces
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = ((a + b).normalize(), (b + c).normalize(), (c + a).normalize());
+                [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    faces
+        .into_iter()
+        .map(|[a, b, c]| {
+            let p = [a, b, c].map(|v| center + radius * v);
+            let p = if inward { [p[0], p[2], p[1]] } else { p };
+            Triangle { p, n: None, uv: None, material }
+        })
+        .collect()
+}

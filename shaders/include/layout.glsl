@@ -110,4 +110,22 @@ struct GpuHit {
     uint _pad1;
 };
 
+struct GpuLightPick {
+    float pmf;
+    uint alias;
+    float threshold;
+    uint _pad0;
+};
+
+struct GpuPathParams {
+    uint max_depth;
+    uint rr_depth;
+    uint sampler_kind;
+    uint sample_rate;
+    uint pick_count;
+    uint nee;
+    float inv_total_weight;
+    uint _pad0;
+};
+
 #endif

@@ -4,6 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "scene_bindings.glsl"
+#include "path_bindings.glsl"
 
 layout(local_size_x = 1) in;
 
@@ -15,7 +16,8 @@ void main() {
     // Touch every binding so the compiler keeps it.
     float s = nodes[0].bmin.x + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
-            + float(push.tile_x);
+            + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth);
     accum[0] = vec4(s);
     hits[0].t = s;
+    accum_even[0] = vec4(s);
 }

@@ -65,3 +65,30 @@ impl Pcg {
         glam::Vec3::new(r * phi.cos(), r * phi.sin(), z)
     }
 }
+
+/// Renders `scene` with the path tracer on a fresh context; fails the test on validation
+/// messages or NaN/Inf samples.
+pub fn render_path(
+    scene: &vkrt::scene::Scene,
+    settings: &vkrt::integrator::path::PathSettings,
+) -> vkrt::integrator::accumulation::Accumulation {
+    use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+    let ctx = gpu_context();
+    let prepared = PreparedScene::new(scene, vkrt::bvh::BuilderKind::Sah, &vkrt::bvh::BuildConfig::default()).unwrap();
+    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+    let (acc, stats) =
+        vkrt::integrator::path::render(&ctx, scene, &gpu, settings, None, &mut Default::default()).unwrap();
+    assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples");
+    assert_no_validation_messages(&ctx);
+    acc
+}
+
+/// Path tracer settings for a `width` x `height` render of `spp` samples.
+pub fn path_settings(width: u32, height: u32, spp: u64) -> vkrt::integrator::path::PathSettings {
+    use vkrt::integrator::path::{PathSettings, Stop};
+    let mut s = PathSettings::default();
+    s.image.width = width;
+    s.image.height = height;
+    s.stop = Stop { spp: Some(spp), ..Stop::default() };
+    s
+}

@@ -1,0 +1,118 @@
+//! A progressive render's running sums: what the GPU accumulates, what checkpoints store and
+//! what `vkrt merge` adds. The image is the sum over the sample count (a box filter: every
+//! sample of a pixel lands inside it, weight 1).
+
+use super::Image;
+use anyhow::{bail, Result};
+
+/// Radiance sums per pixel, row 0 at the top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Accumulation {
+    pub width: u32,
+    pub height: u32,
+    /// Samples taken per pixel (sample indices 0 .. samples of each seed).
+    pub samples: u64,
+    /// Samples whose index is even, per pixel: the size of the first half-image.
+    pub even_samples: u64,
+    /// rgb: radiance sum of all samples; w: samples dropped as NaN or infinite.
+    pub sum: Vec<[f32; 4]>,
+    /// rgb: radiance sum of the even-indexed samples.
+    pub even: Vec<[f32; 4]>,
+}
+
+impl Accumulation {
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Self { width, height, samples: 0, even_samples: 0, sum: vec![[0.0; 4]; n], even: vec![[0.0; 4]; n] }
+    }
+
+    fn mean_of(&self, sums: impl Iterator<Item = [f32; 3]>, count: u64) -> Image {
+        let inv = if count > 0 { 1.0 / count as f64 } else { 0.0 };
+        Image {
+            width: self.width,
+            height: self.height,
+            pixels: sums.map(|s| s.map(|c| (c as f64 * inv) as f32)).collect(),
+        }
+    }
+
+    /// The image: each pixel's mean sample.
+    pub fn image(&self) -> Image {
+        self.mean_of(self.sum.iter().map(|s| [s[0], s[1], s[2]]), self.samples)
+    }
+
+    /// The two independent half-images: even-indexed samples and odd-indexed ones.
+    pub fn halves(&self) -> (Image, Image) {
+        let odd = self.sum.iter().zip(&self.even).map(|(s, e)| [s[0] - e[0], s[1] - e[1], s[2] - e[2]]);
+        let odd = self.mean_of(odd, self.samples - self.even_samples);
+        (self.mean_of(self.even.iter().map(|e| [e[0], e[1], e[2]]), self.even_samples), odd)
+    }
+
+    /// Estimated relMSE of `image()` against the converged image, from the spread of the two
+    /// half-images A and B (independent, unbiased): E[(A - B)^2] = var(A) + var(B), and var(A)
+    /// = s^2 / n_a, so var(image) = s^2 / n = E[(A - B)^2] / (n (1/n_a + 1/n_b)). The
+    /// denominator uses the full image for the unknown truth, as `../shared/refs` does.
+    /// `None` until each half has a sample.
+    pub fn estimate_relmse(&self) -> Option<f64> {
+        let (na, nb) = (self.even_samples, self.samples - self.even_samples);
+        if na == 0 || nb == 0 {
+            return None;
+        }
+        let (a, b) = self.halves();
+        let full = self.image();
+        let mut total = 0.0f64;
+        for ((pa, pb), pf) in a.pixels.iter().zip(&b.pixels).zip(&full.pixels) {
+            for c in 0..3 {
+                let d = (pa[c] - pb[c]) as f64;
+                let f = pf[c] as f64;
+                total += d * d / (f * f + 0.01);
+            }
+        }
+        let spread = total / (a.pixels.len() * 3).max(1) as f64;
+        let n = self.samples as f64;
+        Some(spread / (n * (1.0 / na as f64 + 1.0 / nb as f64)))
+    }
+
+    /// Samples dropped as NaN or infinite, over all pixels.
+    pub fn nonfinite_samples(&self) -> u64 {
+        self.sum.iter().map(|s| s[3] as u64).sum()
+    }
+
+    /// Adds another run's sums (made with another seed) to this one: the result is exactly the
+    /// run that took both sets of samples.
+    pub fn add(&mut self, other: &Accumulation) -> Result<()> {
+        if (self.width, self.height) != (other.width, other.height) {
+            bail!("image sizes differ: {}x{} and {}x{}", self.width, self.height, other.width, other.height);
+        }
+        for (a, b) in self.sum.iter_mut().zip(&other.sum).chain(self.even.iter_mut().zip(&other.even)) {
+            for c in 0..4 {
+                a[c] = (a[c] as f64 + b[c] as f64) as f32;
+            }
+        }
+        self.samples += other.samples;
+        self.even_samples += other.even_samples;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn halves_split_the_sum_and_the_estimate_sees_noise() {
+        let mut acc = Accumulation::new(2, 1);
+        // Pixel 0: samples 1 (even) and 3 (odd); pixel 1: 2 and 2.
+        acc.samples = 2;
+        acc.even_samples = 1;
+        acc.sum = vec![[4.0, 4.0, 4.0, 0.0], [4.0, 4.0, 4.0, 0.0]];
+        acc.even = vec![[1.0, 1.0, 1.0, 0.0], [2.0, 2.0, 2.0, 0.0]];
+        assert_eq!(acc.image().pixels, vec![[2.0; 3], [2.0; 3]]);
+        let (a, b) = acc.halves();
+        assert_eq!(a.pixels, vec![[1.0; 3], [2.0; 3]]);
+        assert_eq!(b.pixels, vec![[3.0; 3], [2.0; 3]]);
+        // Pixel 0: (1 - 3)^2 / (4 + 0.01); pixel 1: 0; mean over 6 channel values, over n (1 + 1).
+        let want = (3.0 * 4.0 / 4.01) / 6.0 / 4.0;
+        let got = acc.estimate_relmse().unwrap_or(f64::NAN);
+        assert!((got - want).abs() < 1e-9, "estimate {got}, want {want}");
+    }
+}

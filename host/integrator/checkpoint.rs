@@ -1,0 +1,269 @@
+//! Checkpoints of a progressive render: the running sums, the sample count and every setting
+//! that decides which samples a run draws, so that a run can resume and runs with different
+//! seeds can be merged into one exact image.
+//!
+//! Format (little-endian): magic `VKRTCKPT`, version u32, then the settings (strings as u32
+//! length + UTF-8), samples u64, even_samples u64, then width * height * 4 f32 of `sum` and as
+//! many of `even`. Written to a temporary file beside the target and renamed into place, so a
+//! crash never leaves a half-written checkpoint under the real name.
+
+use super::accumulation::Accumulation;
+use anyhow::{bail, Context as _, Result};
+use std::path::Path;
+
+const MAGIC: &[u8; 8] = b"VKRTCKPT";
+const VERSION: u32 = 1;
+
+/// The settings a checkpoint must agree on to be resumed or merged.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RunSettings {
+    /// The scene file as given on the command line (for messages).
+    pub scene_path: String,
+    /// FNV-1a hash of the scene file's bytes: a changed scene is a different render.
+    pub scene_hash: u64,
+    pub width: u32,
+    pub height: u32,
+    /// The seeds whose samples the sums hold: one for a plain run, several after a merge.
+    pub seeds: Vec<u32>,
+    /// "path".
+    pub integrator: String,
+    /// `SAMPLER_*`, and the strata per side for the stratified sampler.
+    pub sampler: u32,
+    pub sample_rate: u32,
+    /// `PATH_DEPTH_UNBOUNDED` or the depth.
+    pub max_depth: u32,
+    /// 1: next-event estimation with MIS; 0: BSDF sampling only.
+    pub nee: u32,
+}
+
+impl RunSettings {
+    /// Fails, naming the first difference, unless `self` and `other` render the same image
+    /// (seeds aside).
+    pub fn check_same_render(&self, other: &RunSettings) -> Result<()> {
+        let checks: [(&str, String, String); 7] = [
+            ("scene file content", format!("{:016x}", self.scene_hash), format!("{:016x}", other.scene_hash)),
+            ("size", format!("{}x{}", self.width, self.height), format!("{}x{}", other.width, other.height)),
+            ("integrator", self.integrator.clone(), other.integrator.clone()),
+            ("sampler", self.sampler.to_string(), other.sampler.to_string()),
+            ("sample rate", self.sample_rate.to_string(), other.sample_rate.to_string()),
+            ("max depth", self.max_depth.to_string(), other.max_depth.to_string()),
+            ("light sampling (nee)", self.nee.to_string(), other.nee.to_string()),
+        ];
+        for (what, a, b) in checks {
+            if a != b {
+                bail!("{what} differs: {a} ({}) vs {b} ({})", self.scene_path, other.scene_path);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// FNV-1a (64-bit) of `bytes`: a cheap content fingerprint, not a cryptographic hash.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+/// The hash of a scene file's content.
+pub fn hash_file(path: &Path) -> Result<u64> {
+    Ok(fnv1a(&std::fs::read(path).with_context(|| format!("reading {} to hash it", path.display()))?))
+}
+
+/// Settings plus sums.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Checkpoint {
+    pub settings: RunSettings,
+    pub accum: Accumulation,
+}
+
+fn put_str(out: &mut Vec<u8>, s: &str) {
+    out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+    out.extend_from_slice(s.as_bytes());
+}
+
+/// Reads little-endian fields from a byte slice, failing with the field's name when short.
+struct Reader<'a> {
+    data: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Reader<'a> {
+    fn bytes(&mut self, n: usize, field: &str) -> Result<&'a [u8]> {
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
+        let Some(end) = end else { bail!("truncated at field `{field}` (byte {})", self.pos) };
+        let s = &self.data[self.pos..end];
+        self.pos = end;
+        Ok(s)
+    }
+    fn u32(&mut self, field: &str) -> Result<u32> {
+        let b = self.bytes(4, field)?;
+        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+    fn u64(&mut self, field: &str) -> Result<u64> {
+        let b = self.bytes(8, field)?;
+        let mut a = [0u8; 8];
+        a.copy_from_slice(b);
+        Ok(u64::from_le_bytes(a))
+    }
+    fn string(&mut self, field: &str) -> Result<String> {
+        let n = self.u32(field)? as usize;
+        String::from_utf8(self.bytes(n, field)?.to_vec()).with_context(|| format!("field `{field}` is not UTF-8"))
+    }
+    fn floats(&mut self, count: usize, field: &str) -> Result<Vec<[f32; 4]>> {
+        let bytes = self.bytes(count.checked_mul(16).context("image too large")?, field)?;
+        Ok(bytes
+            .chunks_exact(16)
+            .map(|c| {
+                let f = |i: usize| f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]);
+                [f(0), f(4), f(8), f(12)]
+            })
+            .collect())
+    }
+}
+
+impl Checkpoint {
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let s = &self.settings;
+        let mut out = Vec::with_capacity(64 + self.accum.sum.len() * 32);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&VERSION.to_le_bytes());
+        put_str(&mut out, &s.scene_path);
+        out.extend_from_slice(&s.scene_hash.to_le_bytes());
+        for v in [s.width, s.height, s.seeds.len() as u32] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        for seed in &s.seeds {
+            out.extend_from_slice(&seed.to_le_bytes());
+        }
+        put_str(&mut out, &s.integrator);
+        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out.extend_from_slice(&self.accum.samples.to_le_bytes());
+        out.extend_from_slice(&self.accum.even_samples.to_le_bytes());
+        for px in self.accum.sum.iter().chain(&self.accum.even) {
+            for c in px {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        out
+    }
+
+    pub fn from_bytes(data: &[u8]) -> Result<Self> {
+        let mut r = Reader { data, pos: 0 };
+        if r.bytes(8, "magic")? != MAGIC {
+            bail!("not a vkrt checkpoint (bad magic)");
+        }
+        let version = r.u32("version")?;
+        if version != VERSION {
+            bail!("checkpoint version {version}; this vkrt reads version {VERSION}");
+        }
+        let scene_path = r.string("scene_path")?;
+        let scene_hash = r.u64("scene_hash")?;
+        let width = r.u32("width")?;
+        let height = r.u32("height")?;
+        let seed_count = r.u32("seed count")? as usize;
+        let seeds = (0..seed_count).map(|_| r.u32("seeds")).collect::<Result<Vec<_>>>()?;
+        let integrator = r.string("integrator")?;
+        let sampler = r.u32("sampler")?;
+        let sample_rate = r.u32("sample_rate")?;
+        let max_depth = r.u32("max_depth")?;
+        let nee = r.u32("nee")?;
+        let samples = r.u64("samples")?;
+        let even_samples = r.u64("even_samples")?;
+        if even_samples > samples {
+            bail!("even_samples {even_samples} exceeds samples {samples}");
+        }
+        let pixels = width as usize * height as usize;
+        let sum = r.floats(pixels, "sum")?;
+        let even = r.floats(pixels, "even")?;
+        if r.pos != data.len() {
+            bail!("{} unexpected bytes after the data", data.len() - r.pos);
+        }
+        Ok(Self {
+            settings: RunSettings { scene_path, scene_hash, width, height, seeds, integrator, sampler, sample_rate, max_depth, nee },
+            accum: Accumulation { width, height, samples, even_samples, sum, even },
+        })
+    }
+
+    /// Writes atomically: a temporary file beside `path`, then a rename.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+        tmp_name.push(format!(".{}.tmp", std::process::id()));
+        let tmp = path.with_file_name(tmp_name);
+        let result = std::fs::write(&tmp, self.to_bytes())
+            .with_context(|| format!("writing {}", tmp.display()))
+            .and_then(|_| std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display())));
+        if result.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        result.with_context(|| format!("writing checkpoint {}", path.display()))
+    }
+
+    pub fn read(path: &Path) -> Result<Self> {
+        let data = std::fs::read(path).with_context(|| format!("reading checkpoint {}", path.display()))?;
+        Self::from_bytes(&data).with_context(|| format!("checkpoint {}", path.display()))
+    }
+
+    /// Adds `other`'s samples: same render, disjoint seeds (the same seed twice would count the
+    /// same samples twice).
+    pub fn merge(&mut self, other: &Checkpoint) -> Result<()> {
+        self.settings.check_same_render(&other.settings).context("cannot merge different renders")?;
+        if let Some(seed) = other.settings.seeds.iter().find(|s| self.settings.seeds.contains(s)) {
+            bail!("both runs used seed {seed}: their samples are the same, merging would count them twice");
+        }
+        self.accum.add(&other.accum)?;
+        self.settings.seeds.extend_from_slice(&other.settings.seeds);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(seed: u32) -> Checkpoint {
+        let mut accum = Accumulation::new(3, 2);
+        accum.samples = 5;
+        accum.even_samples = 3;
+        for (i, p) in accum.sum.iter_mut().enumerate() {
+            *p = [i as f32, 0.5, seed as f32, 0.0];
+        }
+        let settings = RunSettings {
+            scene_path: "a.yaml".into(),
+            scene_hash: 42,
+            width: 3,
+            height: 2,
+            seeds: vec![seed],
+            integrator: "path".into(),
+            sampler: 1,
+            sample_rate: 4,
+            max_depth: u32::MAX,
+            nee: 1,
+        };
+        Checkpoint { settings, accum }
+    }
+
+    #[test]
+    fn round_trips_and_rejects_damage() {
+        let c = sample(7);
+        let bytes = c.to_bytes();
+        assert_eq!(Checkpoint::from_bytes(&bytes).ok().as_ref(), Some(&c));
+        assert!(Checkpoint::from_bytes(&bytes[..bytes.len() - 1]).is_err(), "truncated data accepted");
+        let mut bad = bytes.clone();
+        bad[0] = b'X';
+        assert!(Checkpoint::from_bytes(&bad).is_err(), "bad magic accepted");
+    }
+
+    #[test]
+    fn merge_needs_the_same_render_and_new_seeds() {
+        let mut a = sample(1);
+        assert!(a.merge(&sample(1)).is_err(), "merged a seed with itself");
+        let mut other = sample(2);
+        other.settings.scene_hash = 43;
+        assert!(a.merge(&other).is_err(), "merged different scenes");
+        a.merge(&sample(2)).ok();
+        assert_eq!(a.accum.samples, 10);
+        assert_eq!(a.settings.seeds, vec![1, 2]);
+        assert_eq!(a.accum.sum[1], [2.0, 1.0, 3.0, 0.0]);
+    }
+}

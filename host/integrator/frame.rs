@@ -1,0 +1,48 @@
+//! The per-render uniform every integrator shader reads (`GpuFrame`), and the scene bindings.
+
+use super::RenderSettings;
+use crate::layout::constants::*;
+use crate::layout::GpuFrame;
+use crate::pipeline::BindingKind;
+use crate::scene::Scene;
+use anyhow::{Context as _, Result};
+
+/// The frame uniform for `scene` under `settings`. `max_depth` is stored as given: each
+/// integrator clamps it to what its shader supports.
+pub fn frame_for(scene: &Scene, settings: &RenderSettings, light_count: u32, emitter_count: u32) -> Result<GpuFrame> {
+    let cam = scene.camera.frame().context("camera")?;
+    Ok(GpuFrame {
+        cam_origin: cam.origin.to_array(),
+        tan_half_fov_y: cam.tan_half_fov_y,
+        cam_forward: cam.forward.to_array(),
+        aspect: settings.width as f32 / settings.height as f32,
+        cam_right: cam.right.to_array(),
+        width: settings.width,
+        cam_up: cam.up.to_array(),
+        height: settings.height,
+        ambient: scene.ambient.to_array(),
+        max_depth: settings.max_depth,
+        light_count,
+        emitter_count,
+        seed: settings.seed,
+        scene_scale: scene_scale(scene),
+    })
+}
+
+/// Largest |coordinate| of the scene bounds: the length scale for ray offsets.
+pub fn scene_scale(scene: &Scene) -> f32 {
+    let bounds = scene.bounds();
+    if bounds.is_empty() { 1.0 } else { bounds.min.abs().max(bounds.max.abs()).max_element().max(f32::MIN_POSITIVE) }
+}
+
+/// The bindings every integrator shader uses.
+pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
+    (BINDING_NODES, BindingKind::Storage),
+    (BINDING_TRIANGLES, BindingKind::Storage),
+    (BINDING_SHADING, BindingKind::Storage),
+    (BINDING_MATERIALS, BindingKind::Storage),
+    (BINDING_LIGHTS, BindingKind::Storage),
+    (BINDING_EMITTERS, BindingKind::Storage),
+    (BINDING_FRAME, BindingKind::Uniform),
+    (BINDING_ACCUM, BindingKind::Storage),
+];

@@ -1,0 +1,60 @@
+//! The dispatch loop every image integrator shares: the image cut into square tiles, one
+//! submission per tile and sample batch, so that no single submission runs long (lavapipe and
+//! some drivers have no watchdog; others have one that kills long dispatches).
+
+use super::RenderSettings;
+use crate::gpu::commands::submit_and_wait;
+use crate::gpu::{Buffer, Context};
+use crate::layout::constants::*;
+use crate::layout::GpuPush;
+use crate::pipeline::ComputePipeline;
+use anyhow::{Context as _, Result};
+
+/// Binds each (binding, buffer) pair of `bindings` to `pipeline`.
+pub fn bind_all(pipeline: &ComputePipeline, bindings: &[(u32, &Buffer)]) -> Result<()> {
+    for (binding, buffer) in bindings {
+        pipeline.bind(*binding, buffer).with_context(|| format!("binding {binding}"))?;
+    }
+    Ok(())
+}
+
+/// How many tiles one sample batch takes.
+pub fn tile_count(settings: &RenderSettings) -> u64 {
+    let tile = settings.tile_size.max(WORKGROUP_SIZE_X);
+    (settings.width.div_ceil(tile) * settings.height.div_ceil(tile)) as u64
+}
+
+/// Renders samples `sample_base .. sample_base + sample_count` of every pixel, one submission
+/// per tile; `on_tile()` runs after each. `total_spp` goes to the shader (for stratification).
+pub fn dispatch_samples(
+    ctx: &Context,
+    pipeline: &ComputePipeline,
+    what: &str,
+    settings: &RenderSettings,
+    sample_base: u32,
+    sample_count: u32,
+    total_spp: u32,
+    on_tile: &mut dyn FnMut(),
+) -> Result<()> {
+    let tile = settings.tile_size.max(WORKGROUP_SIZE_X);
+    for ty in 0..settings.height.div_ceil(tile) {
+        for tx in 0..settings.width.div_ceil(tile) {
+            let push = GpuPush {
+                tile_x: tx * tile,
+                tile_y: ty * tile,
+                sample_base,
+                sample_count,
+                total_spp,
+                ray_count: 0,
+                any_hit: 0,
+                _pad0: 0,
+            };
+            let w = tile.min(settings.width - push.tile_x);
+            let h = tile.min(settings.height - push.tile_y);
+            let groups = [w.div_ceil(WORKGROUP_SIZE_X), h.div_ceil(WORKGROUP_SIZE_Y), 1];
+            submit_and_wait(ctx, what, |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups))?;
+            on_tile();
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,87 @@
+// Light selection and next-event estimation for the path tracer: pick an emitter by power from
+// the alias table (integrator::light_table), then a point on it by area.
+// Needs scene_bindings.glsl, path_bindings.glsl, sampling.glsl.
+#ifndef VKRT_LIGHTS_GLSL
+#define VKRT_LIGHTS_GLSL
+
+// Entry j of the table with probability light_picks[j].pmf (Vose 1991).
+uint pick_light(float u, out float pmf) {
+    uint n = params.pick_count;
+    float x = u * float(n);
+    uint i = min(uint(x), n - 1u);
+    GpuLightPick e = light_picks[i];
+    uint j = (x - float(i)) < e.threshold ? i : e.alias;
+    pmf = light_picks[j].pmf;
+    return j;
+}
+
+// Area density with which light sampling picks a point on an emissive triangle of radiance
+// `ke`: its selection weight pi * area * mean(ke), over the total, over its area.
+float emitter_area_pdf(vec3 ke) {
+    return PI * mean3(ke) * params.inv_total_weight;
+}
+
+// A sampled light: direction, the radiance (or irradiance, for delta lights) arriving along it
+// divided by the sampling density, the solid-angle density (0 for delta lights) and the
+// shadow ray (origin + t * span for t in (0, span_tmax)).
+struct LightSample {
+    vec3 wi;
+    vec3 li_over_pdf;
+    float pdf;
+    vec3 span;
+    float span_tmax;
+};
+
+// Samples a light as seen from p (geometric normal ng on the side being lit, ray origin
+// `origin`). Returns false if the light sample faces away or carries nothing.
+bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls) {
+    ls.wi = vec3(0.0, 0.0, 1.0);
+    ls.li_over_pdf = vec3(0.0);
+    ls.pdf = 0.0;
+    ls.span = vec3(0.0);
+    ls.span_tmax = 0.0;
+    if (params.pick_count == 0u) return false;
+    float pmf;
+    uint j = pick_light(u_pick, pmf);
+    if (pmf <= 0.0) return false;
+    if (j < frame.emitter_count) {
+        GpuEmitter em = emitters[j];
+        vec3 b = sample_triangle_bary(u);
+        vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
+        vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
+        vec3 to_light = q - p;
+        float d2 = dot(to_light, to_light);
+        ls.wi = to_light * inversesqrt(d2);
+        float cos_light = dot(en, -ls.wi);
+        // Emitters emit from their front face only.
+        if (cos_light <= 0.0 || d2 <= 0.0) return false;
+        ls.pdf = emitter_area_pdf(em.radiance) * d2 / cos_light;
+        ls.li_over_pdf = em.radiance / ls.pdf;
+        // Between the two offset points, so that neither surface shadows itself.
+        ls.span = offset_ray(q, en, frame.scene_scale) - origin;
+        ls.span_tmax = 1.0;
+        return true;
+    }
+    GpuLight light = lights[j - frame.emitter_count];
+    if (light.kind == LIGHT_DIRECTIONAL) {
+        // Irradiance `intensity` on a surface facing the light.
+        ls.wi = light.direction;
+        ls.li_over_pdf = light.intensity / pmf;
+        ls.span = ls.wi;
+        ls.span_tmax = 1.0 / 0.0;
+        return true;
+    }
+    vec3 to_light = light.position - p;
+    float d2 = dot(to_light, to_light);
+    float dist = sqrt(d2);
+    ls.wi = to_light / dist;
+    // Radiant intensity toward p: `intensity` (point) or intensity 4 pi r^2 max(0, cos) (spot).
+    vec3 i = light.intensity;
+    if (light.kind == LIGHT_SPOT) i *= 4.0 * PI * light.radius * light.radius * max(dot(light.direction, -ls.wi), 0.0);
+    ls.li_over_pdf = i / (d2 * pmf);
+    ls.span = ls.wi;
+    ls.span_tmax = dist;
+    return any(greaterThan(ls.li_over_pdf, vec3(0.0)));
+}
+
+#endif

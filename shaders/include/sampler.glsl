@@ -1,0 +1,91 @@
+// The path tracer's sample generators. Every value is a pure function of (pixel, sample index,
+// seed, dimension), so any tiling, batching or resumed run draws the same numbers.
+// Needs rng.glsl and the SAMPLER_* constants.
+#ifndef VKRT_SAMPLER_GLSL
+#define VKRT_SAMPLER_GLSL
+
+// Laine-Karras style hash that permutes the bits of x so that each bit depends only on the
+// bits below it: applied to a bit-reversed value, that is a nested uniform (Owen) scramble.
+// (Burley 2020, "Practical hash-based Owen scrambling", JCGT 9(4), with its constants.)
+uint lk_permutation(uint x, uint seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+uint owen_scramble(uint x, uint seed) {
+    return bitfieldReverse(lk_permutation(bitfieldReverse(x), seed));
+}
+
+// The second Sobol dimension as a 32-bit fraction: primitive polynomial x + 1, direction
+// numbers v_{k+1} = v_k ^ (v_k >> 1) (Joe & Kuo 2008). With the first dimension, the bit
+// reversal of the index (van der Corput), it forms a (0,2)-sequence.
+uint sobol_dim1(uint index) {
+    uint y = 0u;
+    for (uint v = 0x80000000u; index != 0u; index >>= 1, v ^= v >> 1) {
+        if ((index & 1u) != 0u) y ^= v;
+    }
+    return y;
+}
+
+struct Sampler {
+    uint kind;
+    uint pixel_seed;
+    uint index;
+    uint dim;
+    uint sample_rate;
+    Rng rng;
+};
+
+Sampler sampler_init(uint kind, uint pixel, uint sample_index, uint seed, uint sample_rate) {
+    Sampler s;
+    s.kind = kind;
+    s.pixel_seed = hash_pcg(pixel ^ hash_pcg(seed ^ 0x9e3779b9u));
+    s.index = sample_index;
+    s.dim = 0u;
+    s.sample_rate = max(sample_rate, 1u);
+    s.rng = rng_init(pixel, sample_index, seed);
+    return s;
+}
+
+// 24-bit fraction in [0, 1), exactly representable and never 1.
+float u32_to_unit(uint x) {
+    return float(x >> 8u) * (1.0 / 16777216.0);
+}
+
+// The next two dimensions. Sobol: each pair of dimensions is its own Owen-scrambled 2D Sobol
+// sequence, its sample order shuffled by a scramble of the index (Burley 2020, section 4:
+// "padding" by shuffling), so that pairs are decorrelated from each other and from neighbouring pixels.
+vec2 sampler_2d(inout Sampler s) {
+    uint d = s.dim++;
+    if (s.kind == SAMPLER_SOBOL) {
+        uint h = hash_pcg(s.pixel_seed ^ hash_pcg(d + 0x68bc21ebu));
+        uint index = owen_scramble(s.index, h);
+        uint x = bitfieldReverse(index);
+        uint y = sobol_dim1(index);
+        return vec2(u32_to_unit(owen_scramble(x, hash_pcg(h ^ 0xa511e9b3u))),
+                    u32_to_unit(owen_scramble(y, hash_pcg(h ^ 0x63d83595u))));
+    }
+    return vec2(rng_next(s.rng), rng_next(s.rng));
+}
+
+float sampler_1d(inout Sampler s) {
+    return sampler_2d(s).x;
+}
+
+// Where in its pixel the sample lands (box filter: uniform over the pixel). Stratified: sample k
+// takes stratum k mod n^2 of an n x n grid (the lab report's SampleRate^2 pattern), jittered inside it.
+vec2 sampler_pixel(inout Sampler s) {
+    vec2 u = sampler_2d(s);
+    if (s.kind == SAMPLER_STRATIFIED) {
+        uint n = s.sample_rate;
+        uint cell = s.index % (n * n);
+        return (vec2(float(cell % n), float(cell / n)) + u) / float(n);
+    }
+    return u;
+}
+
+#endif

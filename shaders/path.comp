@@ -1,0 +1,122 @@
+#version 460
+// Progressive unidirectional path tracing (Kajiya 1986) with next-event estimation and
+// multiple importance sampling by the power heuristic (Veach & Guibas 1995), Russian roulette
+// from params.rr_depth. One invocation per pixel of a tile; each dispatch adds
+// push.sample_count samples to the running sums (all samples in accum, even-indexed ones in
+// accum_even), so a render is any number of short dispatches.
+#extension GL_GOOGLE_include_directive : require
+
+#include "scene_bindings.glsl"
+#include "path_bindings.glsl"
+#include "intersect.glsl"
+#include "traverse.glsl"
+#include "rng.glsl"
+#include "sampler.glsl"
+#include "camera.glsl"
+#include "offset.glsl"
+#include "surface.glsl"
+#include "sampling.glsl"
+#include "bsdf.glsl"
+#include "lights.glsl"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
+
+layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
+
+// Light sampling at surface s: one light, one point on it, weighted against BSDF sampling.
+vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler smp) {
+    float u_pick = sampler_1d(smp);
+    vec2 u = sampler_2d(smp);
+    LightSample ls;
+    if (!sample_light(s.p, origin, u_pick, u, ls)) return vec3(0.0);
+    // Lambert and glossy reflect only: the light must be on the side the ray came from.
+    if (dot(ls.wi, s.ng) <= 0.0) return vec3(0.0);
+    vec3 wi = to_local(f, ls.wi);
+    float bsdf_pdf;
+    vec3 fr = bsdf_eval(l, wo, wi, bsdf_pdf);
+    if (all(equal(fr, vec3(0.0)))) return vec3(0.0);
+    if (occluded(origin, ls.span, 0.0, ls.span_tmax)) return vec3(0.0);
+    // Delta lights (pdf 0) cannot be hit by BSDF sampling: their weight is 1.
+    float w = ls.pdf > 0.0 ? power_heuristic(ls.pdf, bsdf_pdf) : 1.0;
+    return fr * wi.z * ls.li_over_pdf * w;
+}
+
+vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp) {
+    vec3 throughput = vec3(1.0);
+    vec3 result = vec3(0.0);
+    bool nee = params.nee != 0u;
+    // Density of the BSDF sample that made the current ray; delta for the camera ray.
+    float prev_pdf = 0.0;
+    bool prev_delta = true;
+    for (uint depth = 0u;; depth++) {
+        Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
+        if (h.prim == PRIM_NONE) break;
+        Surface s = surface_at(h, dir);
+        GpuMaterial m = materials[s.material];
+        if (s.front && (m.flags & MATERIAL_EMISSIVE) != 0u) {
+            float w = 1.0;
+            if (nee && !prev_delta) {
+                // The density light sampling would have had for this point, in solid angle
+                // (dir is unit, so h.t is the distance).
+                float cos_light = dot(s.ng, -dir);
+                float light_pdf = emitter_area_pdf(m.emission) * h.t * h.t / max(cos_light, 1e-12);
+                w = power_heuristic(prev_pdf, light_pdf);
+            }
+            result += throughput * m.emission * w;
+        }
+        // The next ray (or shadow ray) would be segment depth + 2 of the path.
+        if (depth + 1u >= params.max_depth) break;
+        Lobes l = lobes_of(m);
+        Onb f = onb_from(s.ns);
+        vec3 wo = to_local(f, -dir);
+        vec3 up = offset_ray(s.p, s.ng, frame.scene_scale);
+        if (nee && has_smooth_lobes(l)) result += throughput * next_event(s, l, f, wo, up, smp);
+        float u_lobe = sampler_1d(smp);
+        vec2 u = sampler_2d(smp);
+        BsdfSample bs;
+        if (!bsdf_sample(l, wo, s.front, u_lobe, u, bs)) break;
+        vec3 wi = to_world(f, bs.wi);
+        // With shading normals a sample can cross the geometric surface: reflection must stay
+        // on the ray's side and refraction must cross.
+        bool crosses = dot(wi, s.ng) < 0.0;
+        if (crosses != (bs.wi.z < 0.0)) break;
+        throughput *= bs.weight;
+        prev_pdf = bs.pdf;
+        prev_delta = bs.delta;
+        origin = crosses ? offset_ray(s.p, -s.ng, frame.scene_scale) : up;
+        dir = wi;
+        if (depth + 1u >= params.rr_depth) {
+            // Russian roulette (Arvo & Kirk 1990): survive with the throughput's largest
+            // component, capped so that no path is certain to go on.
+            float q = min(max3(throughput), 0.95);
+            if (sampler_1d(smp) >= q) break;
+            throughput /= q;
+        }
+        if (max3(throughput) <= 0.0) break;
+    }
+    return result;
+}
+
+void main() {
+    uvec2 pixel = uvec2(push.tile_x, push.tile_y) + gl_GlobalInvocationID.xy;
+    if (pixel.x >= frame.width || pixel.y >= frame.height) return;
+    uint index = pixel.y * frame.width + pixel.x;
+    vec3 sum = vec3(0.0);
+    vec3 sum_even = vec3(0.0);
+    float dropped = 0.0;
+    for (uint k = 0u; k < push.sample_count; k++) {
+        uint sample_index = push.sample_base + k;
+        Sampler smp = sampler_init(params.sampler_kind, index, sample_index, frame.seed, params.sample_rate);
+        vec3 dir = camera_ray_direction(frame, vec2(pixel) + sampler_pixel(smp));
+        vec3 c = radiance(frame.cam_origin, dir, smp);
+        // NaN and Inf never enter the accumulation buffers: count them instead.
+        if (any(isnan(c)) || any(isinf(c))) {
+            dropped += 1.0;
+        } else {
+            sum += c;
+            if ((sample_index & 1u) == 0u) sum_even += c;
+        }
+    }
+    accum[index] += vec4(sum, dropped);
+    accum_even[index] += vec4(sum_even, 0.0);
+}

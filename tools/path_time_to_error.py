@@ -1,0 +1,207 @@
+#!/usr/bin/env python3
+"""Time-vs-error benchmark of the path tracer (and Mitsuba 3 when installed), side by side.
+
+For a scene and an independent reference image, renders at a ladder of sample counts, records
+the render time and the relMSE against the reference (mean((a-b)^2/(b^2+0.01)), as
+../shared/refs/README.md defines it), writes a CSV and a log-log plot of error against seconds
+(if matplotlib is installed), and prints relMSE x seconds, the figure of merit: for an unbiased
+renderer relMSE falls as 1/time, so the product is constant and smaller is faster.
+
+Times are render times: vkrt's own report ("in X s": BVH build and upload excluded, read-back
+included) and Mitsuba's mi.render() after one warm-up render (its JIT compiles kernels once).
+
+Usage (from the repository root, after `cargo build --release`):
+  tools/path_time_to_error.py --scene scenes/cornell-measured/cornell.yaml \
+      --reference ../shared/refs/cornell-512.exr --spp 1 4 16 64 --out target/bench/path
+Only the Python standard library is needed; matplotlib adds the plot, mitsuba adds its curve
+(PyPI `mitsuba`, variant llvm_ad_rgb, needs libLLVM 19).
+"""
+
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import time
+
+
+def vkrt_render(binary, scene, out, width, height, spp, sampler, seed):
+    cmd = [binary, "render", scene, "-o", out, "--integrator", "path", "--width", str(width),
+           "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed)]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    if res.returncode != 0:
+        sys.exit(f"vkrt failed: {' '.join(cmd)}\n{res.stderr}")
+    m = re.search(r" in ([0-9.]+) s on ", res.stderr)
+    if not m:
+        sys.exit(f"no render time in vkrt's report:\n{res.stderr}")
+    return float(m.group(1))
+
+
+def vkrt_compare(binary, image, reference):
+    res = subprocess.run([binary, "compare", image, reference], capture_output=True, text=True)
+    if res.returncode != 0:
+        sys.exit(f"vkrt compare failed:\n{res.stderr}")
+    m = re.search(r"^relmse\s+([0-9.eE+-]+)", res.stdout, re.M)
+    if not m:
+        sys.exit(f"no relmse in:\n{res.stdout}")
+    return float(m.group(1))
+
+
+def split_obj_by_material(obj_path, out_dir):
+    """Mitsuba's OBJ loader ignores materials: write one OBJ per `usemtl` group."""
+    verts, groups, current = [], {}, None
+    with open(obj_path) as f:
+        for line in f:
+            parts = line.split()
+            if not parts:
+                continue
+            if parts[0] == "v":
+                verts.append(line)
+            elif parts[0] == "usemtl":
+                current = parts[1]
+            elif parts[0] == "f":
+                groups.setdefault(current, []).append([int(p.split("/")[0]) for p in parts[1:]])
+    files = {}
+    for name, faces in groups.items():
+        path = os.path.join(out_dir, f"part-{name}.obj")
+        with open(path, "w") as f:
+            f.writelines(verts)
+            for face in faces:
+                # Fan-triangulate in file order, as vkrt does.
+                for k in range(1, len(face) - 1):
+                    f.write(f"f {face[0]} {face[k]} {face[k + 1]}\n")
+        files[name] = path
+    return files
+
+
+def read_mtl(mtl_path):
+    mats, cur = {}, None
+    with open(mtl_path) as f:
+        for line in f:
+            p = line.split()
+            if not p:
+                continue
+            if p[0] == "newmtl":
+                cur = mats.setdefault(p[1], {})
+            elif cur is not None and p[0] in ("Kd", "Ke"):
+                cur[p[0]] = [float(x) for x in p[1:4]]
+    return mats
+
+
+def mitsuba_scene(mi, obj, mtl, camera, width, height, work):
+    parts = split_obj_by_material(obj, work)
+    mats = read_mtl(mtl)
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": -1, "rr_depth": 5},
+        "sensor": {
+            "type": "perspective", "fov": camera["fov"], "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(origin=camera["eye"], target=camera["target"], up=camera["up"]),
+            "film": {"type": "hdrfilm", "width": width, "height": height, "rfilter": {"type": "box"},
+                     "pixel_format": "rgb"},
+            "sampler": {"type": "independent"},
+        },
+    }
+    for name, path in parts.items():
+        m = mats.get(name, {})
+        shape = {"type": "obj", "filename": path, "face_normals": True,
+                 "bsdf": {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": m.get("Kd", [0.8] * 3)}}}}
+        if any(v > 0 for v in m.get("Ke", [0, 0, 0])):
+            shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": m["Ke"]}}
+        scene[name] = shape
+    return mi.load_dict(scene)
+
+
+def run_mitsuba(args, ladder, reference_path):
+    try:
+        import mitsuba as mi
+        mi.set_variant("llvm_ad_rgb")
+    except Exception as e:  # not installed, or no libLLVM
+        print(f"Mitsuba not available ({e}); plotting vkrt only", file=sys.stderr)
+        return []
+    import numpy as np
+    ref = np.array(mi.Bitmap(reference_path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
+    scene = mitsuba_scene(mi, args.obj, args.mtl, {"eye": args.eye, "target": args.target, "up": args.up, "fov": args.fov},
+                          args.width, args.height, args.out)
+    mi.render(scene, spp=1, seed=999)  # warm-up: JIT compilation
+    rows = []
+    for spp in ladder:
+        t = time.perf_counter()
+        img = mi.render(scene, spp=spp, seed=args.seed)
+        img = np.array(img, dtype=np.float64)  # forces evaluation
+        secs = time.perf_counter() - t
+        rel = float(np.mean((img[..., :3] - ref) ** 2 / (ref ** 2 + 0.01)))
+        rows.append(("mitsuba3 llvm_ad_rgb", spp, secs, rel))
+        print(f"mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--scene", default="scenes/cornell-measured/cornell.yaml")
+    ap.add_argument("--reference", default="../shared/refs/cornell-512.exr")
+    ap.add_argument("--width", type=int, default=512)
+    ap.add_argument("--height", type=int, default=512)
+    ap.add_argument("--spp", type=int, nargs="+", default=[1, 4, 16, 64])
+    ap.add_argument("--samplers", nargs="+", default=["sobol", "independent"])
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--vkrt", default="target/release/vkrt")
+    ap.add_argument("--out", default="target/bench/path")
+    ap.add_argument("--no-mitsuba", action="store_true")
+    # The Mitsuba side needs the OBJ, MTL and camera (the cornell-measured defaults).
+    ap.add_argument("--obj", default="scenes/cornell-measured/cornell.obj")
+    ap.add_argument("--mtl", default="scenes/cornell-measured/cornell.mtl")
+    ap.add_argument("--eye", type=float, nargs=3, default=[278, 273, -800])
+    ap.add_argument("--target", type=float, nargs=3, default=[278, 273, 0])
+    ap.add_argument("--up", type=float, nargs=3, default=[0, 1, 0])
+    ap.add_argument("--fov", type=float, default=39.3077)
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+
+    rows = []
+    for sampler in args.samplers:
+        for spp in args.spp:
+            img = os.path.join(args.out, f"vkrt-{sampler}-{spp}.exr")
+            secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed)
+            rel = vkrt_compare(args.vkrt, img, args.reference)
+            rows.append((f"vkrt {sampler} (lavapipe)", spp, secs, rel))
+            print(f"vkrt {sampler:11s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
+    if not args.no_mitsuba:
+        rows += run_mitsuba(args, args.spp, args.reference)
+
+    csv_path = os.path.join(args.out, "time_to_error.csv")
+    with open(csv_path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["renderer", "spp", "seconds", "relmse", "relmse_x_seconds"])
+        for r in rows:
+            w.writerow([r[0], r[1], f"{r[2]:.4f}", f"{r[3]:.6e}", f"{r[2] * r[3]:.5f}"])
+    print(f"wrote {csv_path}")
+
+    print("\n| renderer | spp | seconds | relMSE | relMSE x s |\n|---|---:|---:|---:|---:|")
+    for r in rows:
+        print(f"| {r[0]} | {r[1]} | {r[2]:.2f} | {r[3]:.3e} | {r[2] * r[3]:.4f} |")
+
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib not installed: no plot", file=sys.stderr)
+        return
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    for name in dict.fromkeys(r[0] for r in rows):
+        pts = [(r[2], r[3]) for r in rows if r[0] == name]
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=name)
+    ax.set_xlabel("render seconds")
+    ax.set_ylabel("relMSE vs reference")
+    ax.set_title(f"{os.path.basename(args.scene)} {args.width}x{args.height}: error vs time")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    png = os.path.join(args.out, "time_to_error.png")
+    fig.savefig(png, dpi=120, bbox_inches="tight")
+    print(f"wrote {png}")
+
+
+if __name__ == "__main__":
+    main()
