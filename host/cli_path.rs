@@ -125,10 +125,12 @@ pub fn render(ctx: &Context, scene: &scene::Scene, gpu: &GpuScene, run: &PathRun
             None => Ok(()),
         }
     };
+    let interrupt = interrupt_flag();
     let mut hooks = Hooks {
         progress: Some(&mut progress),
         checkpoint: if a.checkpoint.is_some() { Some(&mut save) } else { None },
         checkpoint_interval_s: a.checkpoint_interval,
+        interrupt,
     };
     let (acc, stats) = path::render(ctx, scene, gpu, &settings, resume, &mut hooks)?;
     bar.finish_and_clear();
@@ -136,6 +138,10 @@ pub fn render(ctx: &Context, scene: &scene::Scene, gpu: &GpuScene, run: &PathRun
     write_with_preview(run.output, &image)?;
     let err = acc.estimate_relmse().map_or(String::new(), |e| format!(", estimated relMSE {e:.3e}"));
     eprintln!("path tracer: {} spp{err}", acc.samples);
+    if stats.interrupted {
+        let saved = a.checkpoint.as_ref().map_or(String::new(), |p| format!(" and checkpoint {}", p.display()));
+        bail!("interrupted after {} spp; wrote {}{saved}", acc.samples, run.output.display());
+    }
     Ok((image, stats))
 }
 
@@ -213,4 +219,24 @@ pub fn compare_images(args: &CompareArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Raised by the first Ctrl-C or SIGTERM; a second one ends the process at once. None if the
+/// handler could not be installed (then the signals keep their default effect).
+fn interrupt_flag() -> Option<&'static std::sync::atomic::AtomicBool> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::OnceLock;
+    static FLAG: AtomicBool = AtomicBool::new(false);
+    static INSTALLED: OnceLock<bool> = OnceLock::new();
+    let installed = *INSTALLED.get_or_init(|| {
+        ctrlc::set_handler(|| {
+            if FLAG.swap(true, Ordering::SeqCst) {
+                // Second signal: the user wants out now. 130 = 128 + SIGINT.
+                std::process::exit(130);
+            }
+            eprintln!("\ninterrupted: finishing the current batch, then writing the checkpoint and image");
+        })
+        .is_ok()
+    });
+    installed.then_some(&FLAG)
 }

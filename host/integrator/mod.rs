@@ -69,4 +69,6 @@ pub struct RenderStats {
     /// Submissions made.
     pub submissions: u32,
     pub seconds: f64,
+    /// The render stopped early because `Hooks::interrupt` was raised (Ctrl-C, SIGTERM).
+    pub interrupted: bool,
 }

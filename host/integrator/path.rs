@@ -102,6 +102,9 @@ pub struct Hooks<'h> {
     /// Called with the sums every `checkpoint_interval_s` (default 0: after every batch) and at the end.
     pub checkpoint: Option<&'h mut dyn FnMut(&Accumulation) -> Result<()>>,
     pub checkpoint_interval_s: f64,
+    /// Checked between batches: once raised, the render stops as if a stop condition held, so
+    /// the final checkpoint holds every finished sample (Ctrl-C and SIGTERM raise it).
+    pub interrupt: Option<&'h std::sync::atomic::AtomicBool>,
 }
 
 const PATH_BINDINGS: &[(u32, BindingKind)] = &[
@@ -214,6 +217,10 @@ pub fn render(
         let time_done = stop.seconds.is_some_and(|t| samples > first_sample && elapsed + last_batch_s > t);
         let error_done = stop.target_relmse.is_some_and(|t| samples >= MIN_SAMPLES_FOR_ESTIMATE && relmse.is_some_and(|e| e <= t));
         if spp_done || time_done || error_done || (empty && samples > first_sample) {
+            break;
+        }
+        if hooks.interrupt.is_some_and(|i| i.load(std::sync::atomic::Ordering::SeqCst)) {
+            stats.interrupted = true;
             break;
         }
         let count = stop.spp.map_or(batch, |n| batch.min(n - samples));
