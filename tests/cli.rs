@@ -120,3 +120,34 @@ fn bad_scene_file_names_the_file_and_line() {
     assert_fails_cleanly(&o, "bad.obj");
     assert!(stderr(&o).contains("line 3"), "{}", stderr(&o));
 }
+
+#[test]
+fn corrupt_or_mismatched_checkpoints_are_clear_errors() {
+    let dir = common::scratch_dir("cli-bad-checkpoint");
+    let scene = common::repo_path("scenes/cornell-measured/cornell.yaml").display().to_string();
+    let ckpt = dir.join("good.ckpt");
+    let out = dir.join("out.exr");
+    let render = |extra: &[&str], ck: &Path, size: &str| {
+        let mut args = vec!["render", scene.as_str(), "--integrator", "path", "--width", size, "--height", size, "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        args.push("--resume");
+        args.push(ck.to_str().unwrap());
+        vkrt(&args)
+    };
+    let o = vkrt(&["render", &scene, "--integrator", "path", "--width", "8", "--height", "8", "--spp", "2", "--checkpoint", ckpt.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let good = std::fs::read(&ckpt).unwrap();
+    std::fs::write(&out, b"previous output").unwrap();
+    // Truncated, garbage and empty checkpoints: an error naming the file; the output stays.
+    for (name, bytes) in [("truncated.ckpt", good[..good.len() / 2].to_vec()), ("garbage.ckpt", vec![0x5a; 300]), ("empty.ckpt", vec![])] {
+        let bad = dir.join(name);
+        std::fs::write(&bad, &bytes).unwrap();
+        let o = render(&["--spp", "4"], &bad, "8");
+        assert_fails_cleanly(&o, name);
+        assert_eq!(std::fs::read(&out).unwrap(), b"previous output", "{name}: output overwritten");
+    }
+    // A checkpoint of another image size cannot be resumed.
+    let o = render(&["--spp", "4"], &ckpt, "16");
+    assert_fails_cleanly(&o, "good.ckpt");
+    assert!(stderr(&o).contains("width") || stderr(&o).contains("size"), "{}", stderr(&o));
+}
