@@ -142,6 +142,33 @@ fn no_ray_leaks_out_of_closed_meshes_at_any_scale() {
     common::assert_no_validation_messages(&ctx);
 }
 
+/// The large sweep (opt-in: `cargo test --release --test stress -- --ignored --nocapture`):
+/// finer meshes, every decade of scale from 1e-4 to 1e6 and offsets from 0 to 1e5.
+#[test]
+#[ignore]
+fn large_leak_sweep() {
+    let ctx = common::gpu_context();
+    let meshes = [("icosphere", icosphere(4)), ("cube", subdivided_cube(16)), ("torus", torus(1.0, 0.4, 96, 48))];
+    let (mut cases, mut total, mut leaked_total) = (0, 0, 0);
+    for (name, mesh) in &meshes {
+        for e in -4..=6 {
+            let scale = 10f32.powi(e);
+            for offset in [Vec3::ZERO, Vec3::new(1e2, -50.0, 70.0), Vec3::new(1e3, -2e2, 5e2), Vec3::new(1e4, -3e3, 7e3), Vec3::new(1e5, -3e4, 7e4)] {
+                if scale < offset.abs().max_element() * 1e-3 {
+                    continue;
+                }
+                let (leaked, rays) = leaks(mesh, name, scale, offset, &ctx);
+                println!("{name:9} scale {scale:8.0e} offset {:>22}: {rays} rays, {leaked} leaks", format!("{offset}"));
+                cases += 1;
+                total += rays;
+                leaked_total += leaked;
+            }
+        }
+    }
+    println!("{cases} cases, {total} rays (GPU + CPU, 3 layouts), {leaked_total} leaks");
+    assert_eq!(leaked_total, 0);
+}
+
 // Self-intersection: the same scene rendered at other scales and far from the origin must give
 // the same image (no acne, no light leaking through offsets that are too large).
 
