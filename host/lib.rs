@@ -15,4 +15,5 @@ pub mod integrator;
 pub mod layout;
 pub mod output;
 pub mod pipeline;
+pub mod rng;
 pub mod scene;

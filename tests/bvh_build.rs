@@ -18,43 +18,7 @@ type Tri = [Vec3; 3];
 // ---------------------------------------------------------------------------------------------
 // Inputs
 
-/// PCG32 (O'Neill 2014, XSH-RR variant): deterministic inputs without depending on a crate's
-/// stream staying the same across versions.
-struct Pcg32 {
-    state: u64,
-    inc: u64,
-}
-
-impl Pcg32 {
-    fn new(seed: u64) -> Self {
-        let mut rng = Pcg32 {
-            state: 0,
-            inc: (seed << 1) | 1,
-        };
-        rng.next_u32();
-        rng.state = rng.state.wrapping_add(seed ^ 0x853c_49e6_748f_ea9b);
-        rng.next_u32();
-        rng
-    }
-    fn next_u32(&mut self) -> u32 {
-        let old = self.state;
-        self.state = old
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(self.inc);
-        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
-        xorshifted.rotate_right((old >> 59) as u32)
-    }
-    /// Uniform in [0, 1).
-    fn f32(&mut self) -> f32 {
-        (self.next_u32() >> 8) as f32 / (1u32 << 24) as f32
-    }
-    fn vec3(&mut self) -> Vec3 {
-        Vec3::new(self.f32(), self.f32(), self.f32())
-    }
-    fn below(&mut self, n: usize) -> usize {
-        ((self.next_u32() as u64 * n as u64) >> 32) as usize
-    }
-}
+use vkrt::rng::Pcg32;
 
 /// A soup of `n` triangles: half spread uniformly over the unit cube, half in a few tight
 /// clusters (uneven density is where the SAH and the median split differ), sizes from tiny to

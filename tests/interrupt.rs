@@ -62,7 +62,7 @@ fn sigterm_writes_the_checkpoint_and_image_then_exits() {
     let dir = common::scratch_dir("interrupt-term");
     let _ = std::fs::remove_file(dir.join("run.ckpt"));
     let _ = std::fs::remove_file(dir.join("run.exr"));
-    let mut child = start_long_render(&dir);
+    let child = start_long_render(&dir);
     let before = wait_for_checkpoint(&dir.join("run.ckpt"), 8);
     signal(&child, "-TERM");
     let output = child.wait_with_output().unwrap();

@@ -7,33 +7,7 @@ use crate::scene::{Light, Scene};
 use anyhow::{Context as _, Result};
 use glam::Vec3;
 
-/// PCG32 (O'Neill 2014): the same rays on every run and platform.
-pub struct Pcg(u64);
-
-impl Pcg {
-    pub fn new(seed: u64) -> Self {
-        let mut p = Pcg(seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407));
-        p.next_u32();
-        p
-    }
-    pub fn next_u32(&mut self) -> u32 {
-        let old = self.0;
-        self.0 = old.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
-        xorshifted.rotate_right((old >> 59) as u32)
-    }
-    /// Uniform in [0, 1).
-    pub fn f32(&mut self) -> f32 {
-        (self.next_u32() >> 8) as f32 / 16777216.0
-    }
-    /// Uniform on the unit sphere.
-    pub fn unit_vector(&mut self) -> Vec3 {
-        let z = 2.0 * self.f32() - 1.0;
-        let phi = std::f32::consts::TAU * self.f32();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
-}
+use crate::rng::Pcg32;
 
 fn ray(origin: Vec3, direction: Vec3, tmax: f32) -> GpuRay {
     GpuRay { origin: origin.to_array(), tmin: 0.0, direction: direction.to_array(), tmax }
@@ -53,7 +27,7 @@ pub fn primary(scene: &Scene, width: u32, height: u32) -> Result<Vec<GpuRay>> {
 /// distribution of the tinybvh and Embree comparisons in BENCHMARKS.md).
 pub fn incoherent(scene: &Scene, count: usize, seed: u64) -> Vec<GpuRay> {
     let b = scene.bounds();
-    let mut rng = Pcg::new(seed);
+    let mut rng = Pcg32::new(seed);
     (0..count)
         .map(|_| {
             let t = Vec3::new(rng.f32(), rng.f32(), rng.f32());
@@ -71,7 +45,7 @@ pub fn secondary(scene: &Scene, primary: &[GpuRay], hits: &[GpuHit], seed: u64) 
     let eps = 1e-4 * b.extent().max_element().max(f32::MIN_POSITIVE);
     let light = scene.lights.first().copied();
     let fallback = b.center() + Vec3::new(0.0, 0.4 * b.extent().y, 0.0);
-    let mut rng = Pcg::new(seed);
+    let mut rng = Pcg32::new(seed);
     let mut shadow = Vec::new();
     let mut diffuse = Vec::new();
     for (r, h) in primary.iter().zip(hits) {

@@ -2,42 +2,9 @@
 
 use glam::Vec3;
 
+use crate::rng::Pcg32;
+
 use super::{Camera, Light, Material, Scene, Triangle};
-
-/// PCG32 (O'Neill 2014, XSH-RR output): tiny and reproducible on every platform, so a seed
-/// names the same scene everywhere without a dependency.
-struct Pcg32 {
-    state: u64,
-}
-
-impl Pcg32 {
-    const MUL: u64 = 6364136223846793005;
-    const INC: u64 = 1442695040888963407;
-
-    fn new(seed: u64) -> Self {
-        let mut rng = Self { state: 0 };
-        rng.next_u32();
-        rng.state = rng.state.wrapping_add(seed);
-        rng.next_u32();
-        rng
-    }
-
-    fn next_u32(&mut self) -> u32 {
-        let old = self.state;
-        self.state = old.wrapping_mul(Self::MUL).wrapping_add(Self::INC);
-        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
-        xorshifted.rotate_right((old >> 59) as u32)
-    }
-
-    /// Uniform in [0, 1), 24 bits.
-    fn next_f32(&mut self) -> f32 {
-        (self.next_u32() >> 8) as f32 / (1u32 << 24) as f32
-    }
-
-    fn next_vec3(&mut self) -> Vec3 {
-        Vec3::new(self.next_f32(), self.next_f32(), self.next_f32())
-    }
-}
 
 /// `n` random triangles with centres in the unit cube and edges up to 0.2 long, one white
 /// material, a framing camera and one directional light. None is degenerate.
@@ -45,8 +12,8 @@ pub fn random_soup(n: usize, seed: u64) -> Scene {
     let mut rng = Pcg32::new(seed);
     let mut triangles = Vec::with_capacity(n);
     while triangles.len() < n {
-        let c = rng.next_vec3();
-        let p = [0, 1, 2].map(|_| c + (rng.next_vec3() - 0.5) * 0.2);
+        let c = rng.vec3();
+        let p = [0, 1, 2].map(|_| c + (rng.vec3() - 0.5) * 0.2);
         let t = Triangle { p, n: None, uv: None, material: 0 };
         // Zero area is astronomically rare, but the promise is "none is degenerate".
         if t.cross().length() > 1e-12 {

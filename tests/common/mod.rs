@@ -34,37 +34,9 @@ pub fn scratch_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
-/// A small deterministic generator (PCG32, O'Neill 2014) so tests need no seeding crate.
-pub struct Pcg(u64);
-
-impl Pcg {
-    pub fn new(seed: u64) -> Self {
-        let mut p = Pcg(seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407));
-        p.next_u32();
-        p
-    }
-    pub fn next_u32(&mut self) -> u32 {
-        let old = self.0;
-        self.0 = old.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
-        let rot = (old >> 59) as u32;
-        xorshifted.rotate_right(rot)
-    }
-    /// Uniform in [0, 1).
-    pub fn f32(&mut self) -> f32 {
-        (self.next_u32() >> 8) as f32 / 16777216.0
-    }
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
-    }
-    /// A uniformly distributed unit vector.
-    pub fn unit_vector(&mut self) -> glam::Vec3 {
-        let z = self.range(-1.0, 1.0);
-        let phi = self.range(0.0, std::f32::consts::TAU);
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        glam::Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
-}
+/// The library's generator, under the name the tests use.
+#[allow(unused_imports)]
+pub use vkrt::rng::Pcg32 as Pcg;
 
 /// Renders `scene` with the path tracer on a fresh context; fails the test on validation
 /// messages or NaN/Inf samples.
