@@ -390,3 +390,28 @@ fn a_png_texture_loads_through_the_obj_loader_with_its_alpha_as_a_cut_out() {
     assert_eq!(m.alpha_texture, m.diffuse_texture, "the diffuse texture's alpha cuts out");
     assert_eq!(scene.triangles[0].uv.unwrap()[1], Vec2::new(1.0, 0.0));
 }
+
+/// The lab scenes' textured cases, small: White Oak's leaves are cut out (more background shows
+/// through the crown than with the leaf quads opaque), and the lab floor shows its wood texture.
+#[test]
+fn lab_white_oak_leaves_are_cut_out_and_the_floor_is_textured() {
+    let oak = load("scenes/lab/white_oak/white_oak.yaml");
+    let mut opaque = oak.clone();
+    for m in &mut opaque.materials {
+        m.alpha_texture = None;
+    }
+    let background = |img: &Image| img.pixels.iter().filter(|p| p.iter().all(|&c| c == 0.0)).count();
+    let cut = whitted_image(&oak, LayoutKind::Threaded, (64, 48), false);
+    let solid = whitted_image(&opaque, LayoutKind::Threaded, (64, 48), false);
+    let (b_cut, b_solid) = (background(&cut), background(&solid));
+    assert!(b_cut > b_solid + 64, "background pixels: {b_cut} with cut-outs, {b_solid} without");
+
+    let floor = load("scenes/lab/floor/floor.yaml");
+    let img = whitted_image(&floor, LayoutKind::Threaded, (32, 24), false);
+    // Wood: red above green above blue, and the planks vary from pixel to pixel.
+    let lit: Vec<&[f32; 3]> = img.pixels.iter().filter(|p| p[0] > 0.0).collect();
+    assert!(lit.len() > 100);
+    assert!(lit.iter().all(|p| p[0] >= p[1] && p[1] >= p[2]), "not wood-coloured");
+    let distinct: std::collections::HashSet<u32> = lit.iter().map(|p| (p[0] / p[1].max(1e-6) * 100.0) as u32).collect();
+    assert!(distinct.len() > 5, "the floor looks untextured");
+}
