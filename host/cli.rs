@@ -83,9 +83,18 @@ pub struct RenderArgs {
     /// one per dominant ray direction) or parent-link (ordered, Hapala et al. 2011).
     #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
     pub layout: LayoutKind,
-    /// Print scene and timing details.
+    /// Print scene and timing details, and which shader variant ran and why.
     #[arg(short, long)]
     pub verbose: bool,
+    /// What rays that leave the scene see, as linear RGB radiance `R,G,B` (e.g. `1,1,1`):
+    /// replaces the scene's sky box; lights the scene in the path tracer. Default: the scene's
+    /// sky box if it has one, else black.
+    #[arg(long, value_name = "R,G,B")]
+    pub sky: Option<String>,
+    /// Run the all-features shader instead of the variant specialised to what the scene uses
+    /// (same image, slower; for comparisons and benchmarks).
+    #[arg(long)]
+    pub all_features: bool,
     #[command(flatten)]
     pub device: DeviceArgs,
     #[command(flatten)]
@@ -152,7 +161,10 @@ fn render(args: &RenderArgs) -> Result<()> {
         anyhow::bail!("--width and --height must be positive");
     }
     let t0 = Instant::now();
-    let scene = scene::load_scene(&args.scene)?;
+    let mut scene = scene::load_scene(&args.scene)?;
+    if let Some(sky) = &args.sky {
+        scene.sky = scene::Sky::parse_constant(sky)?;
+    }
     let load_s = t0.elapsed().as_secs_f64();
     let prepared = PreparedScene::with_layout(&scene, args.builder, args.layout, &BuildConfig::default())?;
     let options = ContextOptions { device: args.device.device.clone(), ..ContextOptions::from_env() };
@@ -179,6 +191,17 @@ fn render(args: &RenderArgs) -> Result<()> {
             prepared.flat.node_count(),
             upload_s
         );
+        if !prepared.atlas.table.is_empty() {
+            eprintln!(
+                "textures: {} ({} MiB of texels)",
+                prepared.atlas.table.len(),
+                std::mem::size_of_val(prepared.atlas.texels.as_slice()) >> 20
+            );
+        }
+        let features = if args.all_features { scene::features::Features::all() } else { scene::features::Features::of(&scene) };
+        let how = if args.all_features { "unspecialised, --all-features" } else { "specialised to the scene" };
+        eprintln!("shader variant: {:?} {} ({how}): {}", args.integrator, args.layout.name(), features.variant_name());
+        eprint!("{}", features.report());
     }
     let settings = RenderSettings {
         width: args.width,
@@ -186,6 +209,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         spp: args.spp.unwrap_or(1),
         max_depth: args.max_depth.unwrap_or(7),
         seed: args.seed,
+        all_features: args.all_features,
         ..RenderSettings::default()
     };
     let mut progress = DelayedProgress::new("rendering");
@@ -200,6 +224,7 @@ fn render(args: &RenderArgs) -> Result<()> {
                 seed: args.seed,
                 spp: args.spp,
                 max_depth: args.max_depth,
+                all_features: args.all_features,
                 args: &args.path,
             };
             crate::cli_path::render(&ctx, &scene, &gpu, &run)?

@@ -59,6 +59,8 @@ pub struct PathRun<'a> {
     pub seed: u32,
     pub spp: Option<u32>,
     pub max_depth: Option<u32>,
+    /// Run the all-features shader rather than the scene's specialised one.
+    pub all_features: bool,
     pub args: &'a PathArgs,
 }
 
@@ -90,6 +92,7 @@ pub fn render(ctx: &Context, scene: &scene::Scene, gpu: &GpuScene, run: &PathRun
             height: run.height,
             seed: run.seed,
             samples_per_batch: a.samples_per_batch,
+            all_features: run.all_features,
             ..RenderSettings::default()
         },
         max_depth: run.max_depth,

@@ -8,6 +8,9 @@
 
 #include "scene_bindings.glsl"
 #include "path_bindings.glsl"
+#include "features.glsl"
+#include "texture.glsl"
+#include "alpha.glsl"
 #include "intersect.glsl"
 #include "traverse.glsl"
 #include "rng.glsl"
@@ -50,10 +53,14 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp) {
     bool prev_delta = true;
     for (uint depth = 0u;; depth++) {
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
-        if (h.prim == PRIM_NONE) break;
+        if (h.prim == PRIM_NONE) {
+            // No light sampling picks the sky, so BSDF sampling gets it all (MIS weight 1).
+            if (HAS_SKY) result += throughput * sky_radiance(dir);
+            break;
+        }
         Surface s = surface_at(h, dir);
-        GpuMaterial m = materials[s.material];
-        if (s.front && (m.flags & MATERIAL_EMISSIVE) != 0u) {
+        GpuMaterial m = material_at(h, s);
+        if (HAS_EMITTERS && s.front && (m.flags & MATERIAL_EMISSIVE) != 0u) {
             float w = 1.0;
             if (nee && !prev_delta) {
                 // The density light sampling would have had for this point, in solid angle

@@ -6,6 +6,9 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "scene_bindings.glsl"
+#include "features.glsl"
+#include "texture.glsl"
+#include "alpha.glsl"
 #include "intersect.glsl"
 #include "traverse.glsl"
 #include "rng.glsl"
@@ -32,20 +35,26 @@ const vec3 EMITTER_SAMPLE_BARY[4] = vec3[4](
 vec3 blinn_phong(GpuMaterial m, Surface s, vec3 view, vec3 l, vec3 e) {
     float n_dot_l = dot(s.ns, l);
     if (n_dot_l <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
-    vec3 h = normalize(l + view);
-    float spec = pow(max(dot(s.ns, h), 0.0), m.shininess);
-    return (m.diffuse * n_dot_l + m.specular * spec) * e;
+    vec3 c = m.diffuse * n_dot_l;
+    if (HAS_GLOSSY) {
+        vec3 h = normalize(l + view);
+        c += m.specular * pow(max(dot(s.ns, h), 0.0), m.shininess);
+    }
+    return c * e;
 }
 
 vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
     vec3 result = frame.ambient * m.diffuse;
     vec3 origin = offset_ray(s.p, s.ng, frame.scene_scale);
-    for (uint i = 0u; i < frame.light_count; i++) {
+    for (uint i = 0u; (HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT) && i < frame.light_count; i++) {
         GpuLight light = lights[i];
+        // Kinds the scene lacks are compiled out (features.glsl); their code is never reached.
+        if ((!HAS_POINT && light.kind == LIGHT_POINT) || (!HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL)
+            || (!HAS_SPOT && light.kind == LIGHT_SPOT)) continue;
         vec3 l;
         vec3 e;
         float dist;
-        if (light.kind == LIGHT_DIRECTIONAL) {
+        if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
             l = light.direction;
             e = light.intensity;
             dist = 1.0 / 0.0;
@@ -55,7 +64,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
             dist = sqrt(d2);
             l = to_light / dist;
             e = light.intensity / d2;
-            if (light.kind == LIGHT_SPOT) {
+            if (HAS_SPOT && light.kind == LIGHT_SPOT) {
                 // intensity * 4 pi r^2 * cos / d^2, over pi (scene::Light).
                 e *= 4.0 * light.radius * light.radius * max(dot(light.direction, -l), 0.0);
             }
@@ -64,7 +73,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
         if (occluded(origin, l, 0.0, dist)) continue;
         result += blinn_phong(m, s, view, l, e);
     }
-    for (uint i = 0u; i < frame.emitter_count; i++) {
+    for (uint i = 0u; HAS_EMITTERS && i < frame.emitter_count; i++) {
         GpuEmitter em = emitters[i];
         vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
         for (uint k = 0u; k < WHITTED_EMITTER_SAMPLES; k++) {
@@ -113,18 +122,21 @@ vec3 whitted(vec3 origin, vec3 dir) {
     while (sp > 0u) {
         Task task = stack[--sp];
         Hit h = trace_closest(task.origin, task.dir, 0.0, 1.0 / 0.0);
-        if (h.prim == PRIM_NONE) continue;
+        if (h.prim == PRIM_NONE) {
+            if (HAS_SKY) color += task.weight * sky_radiance(task.dir);
+            continue;
+        }
         Surface s = surface_at(h, task.dir);
-        GpuMaterial m = materials[s.material];
+        GpuMaterial m = material_at(h, s);
         vec3 view = -task.dir;
-        if (s.front) color += task.weight * m.emission;
+        if (HAS_EMITTERS && s.front) color += task.weight * m.emission;
         color += task.weight * direct_light(m, s, view);
         // A path of max_depth rays ends here; the stack holds at most one task per level plus
         // one sibling, so max_depth < WHITTED_STACK_SIZE (clamped on the host) cannot overflow.
         if (task.depth + 1u >= frame.max_depth) continue;
         vec3 reflected = reflect(task.dir, s.ns);
         if (dot(reflected, s.ng) <= 0.0) reflected = reflect(task.dir, s.ng);
-        if ((m.flags & MATERIAL_DIELECTRIC) != 0u) {
+        if (HAS_DIELECTRIC && (m.flags & MATERIAL_DIELECTRIC) != 0u) {
             float eta = s.front ? 1.0 / m.ior : m.ior;
             float cos_i = dot(view, s.ns);
             float cos_t;
@@ -135,7 +147,7 @@ vec3 whitted(vec3 origin, vec3 dir) {
                 stack[sp++] = Task(offset_ray(s.p, -s.ng, frame.scene_scale), normalize(refracted),
                                    task.weight * (1.0 - f), task.depth + 1u);
             }
-        } else if ((m.flags & MATERIAL_MIRROR) != 0u) {
+        } else if (HAS_MIRROR && (m.flags & MATERIAL_MIRROR) != 0u) {
             stack[sp++] = Task(offset_ray(s.p, s.ng, frame.scene_scale), reflected, task.weight * m.specular, task.depth + 1u);
         }
     }

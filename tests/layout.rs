@@ -70,12 +70,16 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
         rust_fields!(GpuNode { bmin, escape, bmax, leaf }),
         rust_fields!(GpuTriangle { v0, prim, v1, _pad0, v2, _pad1 }),
         rust_fields!(GpuShading { n0, material, n1, _pad0, n2, _pad1 }),
-        rust_fields!(GpuMaterial { diffuse, flags, specular, shininess, emission, ior }),
+        rust_fields!(GpuMaterial {
+            diffuse, flags, specular, shininess, emission, ior, diffuse_texture, alpha_texture, _pad0, _pad1
+        }),
+        rust_fields!(GpuTexture { offset, width, height, _pad0 }),
+        rust_fields!(GpuUv { uv0, uv1, uv2, _pad0, _pad1 }),
         rust_fields!(GpuLight { position, kind, direction, radius, intensity, _pad0 }),
         rust_fields!(GpuEmitter { v0, prim, v1, area, v2, _pad0, radiance, _pad1 }),
         rust_fields!(GpuFrame {
             cam_origin, tan_half_fov_y, cam_forward, aspect, cam_right, width, cam_up, height,
-            ambient, max_depth, light_count, emitter_count, seed, scene_scale
+            ambient, max_depth, light_count, emitter_count, seed, scene_scale, sky_color, sky_texture
         }),
         rust_fields!(GpuPush { tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, _pad0 }),
         rust_fields!(GpuRay { origin, tmin, direction, tmax }),
@@ -110,6 +114,9 @@ fn bindings_and_array_strides_match() {
         (BINDING_LIGHT_PICKS, "LightPicks", size_of::<GpuLightPick>()),
         (BINDING_PATH_PARAMS, "PathParams", size_of::<GpuPathParams>()),
         (BINDING_ACCUM_EVEN, "AccumEven", 16),
+        (BINDING_TEXTURES, "Textures", size_of::<GpuTexture>()),
+        (BINDING_TEXELS, "Texels", 4),
+        (BINDING_UVS, "Uvs", size_of::<GpuUv>()),
     ];
     let mut found = HashMap::new();
     for (_, var) in module.global_variables.iter() {

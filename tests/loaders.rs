@@ -180,9 +180,12 @@ fn lab_white_oak() {
     );
     let leaves = material_named(&s, "White_Oak_Leaves_Hero_3");
     assert!(leaves.alpha_map.as_ref().unwrap().ends_with("T_White_Oak_Leaves_Hero_3_A.png"));
-    let texture_warnings =
-        s.stats.warnings.iter().filter(|w| w.contains("textures are not yet supported")).count();
+    // The MTL's map_d files were never shipped: the diffuse texture's alpha cuts the leaves out.
+    let texture_warnings = s.stats.warnings.iter().filter(|w| w.contains("_A.png not found")).count();
     assert_eq!(texture_warnings, 1, "{:?}", s.stats.warnings);
+    assert!(leaves.alpha_texture.is_some() && leaves.alpha_texture == leaves.diffuse_texture);
+    assert!(material_named(&s, "White_Oak_Leaves_Hero_1").alpha_texture.is_some());
+    assert_eq!(bark.alpha_texture, None, "the bark texture is opaque");
 }
 
 #[test]
@@ -190,11 +193,10 @@ fn lab_bunny_scale_translation() {
     let s = load(&shared("lab/bunny/bunny.yaml"));
     assert_eq!(s.triangles.len() + s.stats.dropped_degenerate, 69_451);
     assert_eq!(s.lights, vec![Light::Directional { direction: Vec3::ONE.normalize(), intensity: Vec3::ONE }]);
-    assert!(s
-        .stats
-        .warnings
-        .iter()
-        .any(|w| w.contains("key Skyboxes") && w.contains("sky boxes are not yet supported")));
+    // The six sky-box faces, after the (no) material textures.
+    assert!(matches!(s.sky, vkrt::scene::Sky::CubeMap { first_texture: 0, .. }), "{:?}", s.sky);
+    assert_eq!(s.textures.len(), 6);
+    assert!(s.textures[0].path.ends_with("rt.jpg") && s.textures[5].path.ends_with("bk.jpg"));
     assert_eq!(material_named(&s, "bunny").specular, Vec3::splat(0.4));
     assert_eq!(material_named(&s, "bunny").shininess, 32.0);
     // p' = 10 p + (0.1, -1, 0): compare with the raw OBJ.
@@ -348,6 +350,7 @@ fn obj_normals_uvs_degenerates_comments_and_file_order() {
     let mtl = b"newmtl glow\nKe 1 2 3\nKd 0.5\nTr 1\nmap_Kd -s 2 2 2 tex.png\n\
         newmtl plain\nKd 0.1 0.2 0.3\nNs 20\nNi 1.33\nd 0.5\nillum 7\nmap_d alpha.png\n";
     let path = write_files("obj_features", &[("scene.obj", obj), ("sub/m.mtl", mtl)]);
+    image::RgbaImage::new(1, 1).save(path.parent().unwrap().join("sub/tex.png")).unwrap();
     let s = load(&path);
     // `f 1 2 -4` repeats vertex 1 (-4 of 4): zero area, dropped. The `l` line is no face.
     assert_eq!(s.triangles.len(), 4);
@@ -375,7 +378,10 @@ fn obj_normals_uvs_degenerates_comments_and_file_order() {
     // An emitter: no default light.
     assert!(s.lights.is_empty() && s.ambient == Vec3::ZERO);
     let w = &s.stats.warnings;
-    assert_eq!(w.iter().filter(|w| w.contains("textures are not yet supported")).count(), 1, "{w:?}");
+    // map_d names a file that is not there: a warning, and the material stays opaque.
+    assert_eq!(w.iter().filter(|w| w.contains("alpha.png not found")).count(), 1, "{w:?}");
+    assert_eq!(plain.alpha_texture, None);
+    assert!(glow.diffuse_texture.is_some());
     assert!(w.iter().any(|w| w.contains("polyline")), "{w:?}");
 }
 

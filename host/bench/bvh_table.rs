@@ -136,7 +136,7 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
         let s = stats(&tree);
         for &layout in &layouts {
             let flat = flatten_as(&tree, &scene.triangles, layout)?;
-            let prepared = PreparedScene { flat, buffers: Default::default(), build_seconds: build_ms / 1e3 };
+            let prepared = PreparedScene { flat, buffers: Default::default(), atlas: Default::default(), build_seconds: build_ms / 1e3 };
             let gpu = GpuScene::upload(ctx, &prepared)?;
             let query = RayQuery::new(ctx, &gpu)?;
             // One untimed warm-up batch: the first dispatch pays one-off driver costs.

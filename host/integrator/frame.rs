@@ -26,6 +26,8 @@ pub fn frame_for(scene: &Scene, settings: &RenderSettings, light_count: u32, emi
         emitter_count,
         seed: settings.seed,
         scene_scale: scene_scale(scene),
+        sky_color: scene.sky.gpu().0,
+        sky_texture: scene.sky.gpu().1,
     })
 }
 
@@ -43,6 +45,9 @@ pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_MATERIALS, BindingKind::Storage),
     (BINDING_LIGHTS, BindingKind::Storage),
     (BINDING_EMITTERS, BindingKind::Storage),
+    (BINDING_TEXTURES, BindingKind::Storage),
+    (BINDING_TEXELS, BindingKind::Storage),
+    (BINDING_UVS, BindingKind::Storage),
     (BINDING_FRAME, BindingKind::Uniform),
     (BINDING_ACCUM, BindingKind::Storage),
 ];

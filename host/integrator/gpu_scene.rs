@@ -5,6 +5,7 @@ use crate::gpu::{Buffer, Context};
 use crate::layout::flatten::{flatten_as, FlatBvh};
 use crate::layout::LayoutKind;
 use crate::layout::scene_buffers::SceneBuffers;
+use crate::layout::texture_atlas::{TextureAtlas, TEXEL_BUDGET_BYTES};
 use crate::scene::Scene;
 use anyhow::{Context as _, Result};
 use ash::vk;
@@ -20,6 +21,7 @@ pub struct PrepareTimes {
 pub struct PreparedScene {
     pub flat: FlatBvh,
     pub buffers: SceneBuffers,
+    pub atlas: TextureAtlas,
     pub build_seconds: f64,
 }
 
@@ -36,7 +38,8 @@ impl PreparedScene {
         let tree = bvh::build(builder, &boxes, &centroids, config);
         let flat = flatten_as(&tree, &scene.triangles, layout).with_context(|| format!("flattening the BVH as {}", layout.name()))?;
         let build_seconds = start.elapsed().as_secs_f64();
-        Ok(Self { flat, buffers: SceneBuffers::new(scene), build_seconds })
+        let atlas = TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES);
+        Ok(Self { flat, buffers: SceneBuffers::new(scene), atlas, build_seconds })
     }
 }
 
@@ -48,6 +51,9 @@ pub struct GpuScene<'a> {
     pub materials: Buffer<'a>,
     pub lights: Buffer<'a>,
     pub emitters: Buffer<'a>,
+    pub textures: Buffer<'a>,
+    pub texels: Buffer<'a>,
+    pub uvs: Buffer<'a>,
     pub light_count: u32,
     pub emitter_count: u32,
     pub triangle_count: u32,
@@ -57,7 +63,7 @@ pub struct GpuScene<'a> {
 
 impl<'a> GpuScene<'a> {
     /// The scene's buffers by binding number, for every integrator shader.
-    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 6] {
+    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 9] {
         use crate::layout::constants::*;
         [
             (BINDING_NODES, &self.nodes),
@@ -66,6 +72,9 @@ impl<'a> GpuScene<'a> {
             (BINDING_MATERIALS, &self.materials),
             (BINDING_LIGHTS, &self.lights),
             (BINDING_EMITTERS, &self.emitters),
+            (BINDING_TEXTURES, &self.textures),
+            (BINDING_TEXELS, &self.texels),
+            (BINDING_UVS, &self.uvs),
         ]
     }
 
@@ -86,6 +95,12 @@ impl<'a> GpuScene<'a> {
         check("BVH nodes", prepared.flat.node_bytes().len())?;
         check("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
         check("shading data", std::mem::size_of_val(b.shading.as_slice()))?;
+        check("texels", std::mem::size_of_val(prepared.atlas.texels.as_slice()))?;
+        check("texture coordinates", std::mem::size_of_val(b.uvs.as_slice()))?;
+        // Unused bindings still need a buffer: one zero element stands in for an empty array.
+        fn or_one<T: bytemuck::Pod>(v: &[T]) -> std::borrow::Cow<'_, [T]> {
+            if v.is_empty() { vec![T::zeroed()].into() } else { v.into() }
+        }
         Ok(Self {
             nodes: Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), storage)?,
             triangles: Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, storage)?,
@@ -93,6 +108,9 @@ impl<'a> GpuScene<'a> {
             materials: Buffer::with_data(ctx, "materials", &b.materials, storage)?,
             lights: Buffer::with_data(ctx, "lights", &b.lights, storage)?,
             emitters: Buffer::with_data(ctx, "emitters", &b.emitters, storage)?,
+            textures: Buffer::with_data(ctx, "texture table", &or_one(&prepared.atlas.table), storage)?,
+            texels: Buffer::with_data(ctx, "texels", &or_one(&prepared.atlas.texels), storage)?,
+            uvs: Buffer::with_data(ctx, "texture coordinates", &or_one(&b.uvs), storage)?,
             light_count: b.lights.len() as u32,
             emitter_count: b.emitters.len() as u32,
             triangle_count: prepared.flat.triangles.len() as u32,

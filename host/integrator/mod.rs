@@ -53,11 +53,21 @@ pub struct RenderSettings {
     pub tile_size: u32,
     /// Samples per pixel per submission (default 4).
     pub samples_per_batch: u32,
+    /// Run the all-features shader instead of the one specialised to the scene (default false;
+    /// for comparisons: both must give the same image).
+    pub all_features: bool,
+}
+
+impl RenderSettings {
+    /// The features the shader is specialised for: the scene's, or all of them.
+    pub fn features(&self, scene: &crate::scene::Scene) -> crate::scene::features::Features {
+        if self.all_features { crate::scene::features::Features::all() } else { crate::scene::features::Features::of(scene) }
+    }
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { width: 512, height: 512, spp: 1, max_depth: 7, seed: 0, tile_size: 128, samples_per_batch: 4 }
+        Self { width: 512, height: 512, spp: 1, max_depth: 7, seed: 0, tile_size: 128, samples_per_batch: 4, all_features: false }
     }
 }
 

@@ -190,7 +190,15 @@ pub fn render(
     even_buf.write(bytemuck::cast_slice(&acc.even))?;
     let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
     let spv = shaders::for_layout("path", gpu.layout)?;
-    let pipeline = ComputePipeline::new(ctx, "path", spv, &bindings, std::mem::size_of::<GpuPush>() as u32)?;
+    let features = img.features(scene);
+    let pipeline = ComputePipeline::specialized(
+        ctx,
+        "path",
+        spv,
+        &bindings,
+        std::mem::size_of::<GpuPush>() as u32,
+        &features.spec_constants(),
+    )?;
     bind_all(&pipeline, &gpu.bindings())?;
     bind_all(
         &pipeline,

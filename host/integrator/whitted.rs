@@ -41,7 +41,15 @@ pub fn render(
     let accum = Buffer::new(ctx, "accumulation", pixels * 16, vk::BufferUsageFlags::STORAGE_BUFFER, MemoryLocation::Device)?;
     accum.clear()?;
     let spv = shaders::for_layout("whitted", gpu.layout)?;
-    let pipeline = ComputePipeline::new(ctx, "whitted", spv, INTEGRATOR_BINDINGS, std::mem::size_of::<GpuPush>() as u32)?;
+    let features = settings.features(scene);
+    let pipeline = ComputePipeline::specialized(
+        ctx,
+        "whitted",
+        spv,
+        INTEGRATOR_BINDINGS,
+        std::mem::size_of::<GpuPush>() as u32,
+        &features.spec_constants(),
+    )?;
     bind_all(&pipeline, &gpu.bindings())?;
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);

@@ -42,6 +42,13 @@ shared_constants! {
     /// Radiance of the even-indexed samples only, one vec4 per pixel: with BINDING_ACCUM it
     /// gives two independent half-images whose difference estimates the error.
     BINDING_ACCUM_EVEN = 12;
+    /// Texture table (`GpuTexture[]`): where each texture's texels start in BINDING_TEXELS.
+    BINDING_TEXTURES = 13;
+    /// Every texture's texels, packed RGBA8 (one u32 each, red in the low byte), concatenated:
+    /// one binding holds any number of textures (`scene::texture`).
+    BINDING_TEXELS = 14;
+    /// Per-primitive texture coordinates by primitive id (`GpuUv[]`).
+    BINDING_UVS = 15;
 
     /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
     /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).
@@ -61,6 +68,23 @@ shared_constants! {
     MATERIAL_MIRROR = 1;
     MATERIAL_DIELECTRIC = 2;
     MATERIAL_EMISSIVE = 4;
+    /// The material has an alpha texture with see-through texels: rays test it (alpha.glsl).
+    MATERIAL_ALPHA = 8;
+    /// `GpuMaterial::diffuse_texture`, `alpha_texture` and `GpuFrame::sky_texture` meaning "none".
+    TEXTURE_NONE = 0xFFFF_FFFF;
+
+    /// Specialization constant ids (shaders/include/features.glsl, `scene::features`): each
+    /// switches one feature's code on; a scene that lacks the feature runs with it compiled out.
+    SPEC_HAS_TEXTURES = 0;
+    SPEC_HAS_ALPHA = 1;
+    SPEC_HAS_DIELECTRIC = 2;
+    SPEC_HAS_MIRROR = 3;
+    SPEC_HAS_GLOSSY = 4;
+    SPEC_HAS_EMITTERS = 5;
+    SPEC_HAS_POINT = 6;
+    SPEC_HAS_DIRECTIONAL = 7;
+    SPEC_HAS_SPOT = 8;
+    SPEC_HAS_SKY = 9;
 
     /// Light kinds (`GpuLight::kind`).
     LIGHT_POINT = 0;

@@ -11,6 +11,7 @@ pub mod flatten;
 pub mod multi_order;
 pub mod parent_link;
 pub mod scene_buffers;
+pub mod texture_atlas;
 
 use bytemuck::{Pod, Zeroable};
 
@@ -127,8 +128,39 @@ pub struct GpuMaterial {
     pub shininess: f32,
     pub emission: [f32; 3],
     pub ior: f32,
+    /// Index into the texture table whose sRGB colour replaces `diffuse`, or `TEXTURE_NONE`.
+    pub diffuse_texture: u32,
+    /// Index of the texture whose alpha cuts the surface out (alpha < 0.2 is see-through), or
+    /// `TEXTURE_NONE`. Only read when `flags` has `MATERIAL_ALPHA`.
+    pub alpha_texture: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 48);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 64);
+
+/// One texture in the texel atlas (`BINDING_TEXELS`): texel (x, y) of this texture, row 0 the
+/// top row of the image file, is `texels[offset + y * width + x]`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuTexture {
+    pub offset: u32,
+    pub width: u32,
+    pub height: u32,
+    pub _pad0: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuTexture>() == 16);
+
+/// A triangle's vertex texture coordinates, by primitive id (zero if the file has none).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuUv {
+    pub uv0: [f32; 2],
+    pub uv1: [f32; 2],
+    pub uv2: [f32; 2],
+    pub _pad0: u32,
+    pub _pad1: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuUv>() == 32);
 
 /// A point, directional or spot light. See `scene::Light` for the units.
 #[repr(C)]
@@ -180,8 +212,14 @@ pub struct GpuFrame {
     /// Largest |coordinate| of the scene bounds: the length scale for ray offsets
     /// (`shaders/include/offset.glsl`).
     pub scene_scale: f32,
+    /// Radiance of escaping rays: this colour, times the cube map's texel if `sky_texture` is
+    /// set (black: no sky).
+    pub sky_color: [f32; 3],
+    /// First of the six cube-map faces (+x, -x, +y, -y, +z, -z) in the texture table, or
+    /// `TEXTURE_NONE` for a constant sky.
+    pub sky_texture: u32,
 }
-const _: () = assert!(std::mem::size_of::<GpuFrame>() == 96);
+const _: () = assert!(std::mem::size_of::<GpuFrame>() == 112);
 
 /// Per-dispatch values (push constants): which tile and which samples this dispatch renders.
 #[repr(C)]

@@ -38,6 +38,19 @@ impl<'a> ComputePipeline<'a> {
     /// Builds the pipeline for `spv` (entry point `main`) with the given bindings (set 0) and
     /// `push_size` bytes of push constants.
     pub fn new(ctx: &'a Context, name: &str, spv: &[u8], bindings: &[(u32, BindingKind)], push_size: u32) -> Result<Self> {
+        Self::specialized(ctx, name, spv, bindings, push_size, &[])
+    }
+
+    /// As [`Self::new`], with 32-bit specialization constants `(constant_id, value)` (a GLSL
+    /// `bool` constant takes 0 or 1); constants not listed keep the shader's defaults.
+    pub fn specialized(
+        ctx: &'a Context,
+        name: &str,
+        spv: &[u8],
+        bindings: &[(u32, BindingKind)],
+        push_size: u32,
+        constants: &[(u32, u32)],
+    ) -> Result<Self> {
         let dev = &ctx.device;
         let code = crate::pipeline::shaders::words(spv).with_context(|| format!("shader '{name}'"))?;
         let mut p = Self {
@@ -78,10 +91,20 @@ impl<'a> ComputePipeline<'a> {
                 layout_info = layout_info.push_constant_ranges(&ranges);
             }
             p.layout = dev.create_pipeline_layout(&layout_info, None).with_context(|| format!("vkCreatePipelineLayout '{name}'"))?;
-            let stage = vk::PipelineShaderStageCreateInfo::default()
+            let entries: Vec<vk::SpecializationMapEntry> = constants
+                .iter()
+                .enumerate()
+                .map(|(i, &(id, _))| vk::SpecializationMapEntry { constant_id: id, offset: 4 * i as u32, size: 4 })
+                .collect();
+            let data: Vec<u8> = constants.iter().flat_map(|&(_, v)| v.to_ne_bytes()).collect();
+            let spec = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
+            let mut stage = vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::COMPUTE)
                 .module(p.module)
                 .name(c"main");
+            if !constants.is_empty() {
+                stage = stage.specialization_info(&spec);
+            }
             let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(p.layout)];
             p.pipeline = dev
                 .create_compute_pipelines(vk::PipelineCache::null(), &info, None)

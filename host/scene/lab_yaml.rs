@@ -75,10 +75,10 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
         }
     }
     let ambient = get(root, "AmbientIntensity").map(|a| lab.vec3(a, "AmbientIntensity")).transpose()?;
-    if let Some(s) = get(root, "Skyboxes") {
-        lab.list(s, "Skyboxes")?;
-        lab.warn_at(Some("Skyboxes"), "sky boxes are not yet supported; ignored");
-    }
+    let sky_faces = match get(root, "Skyboxes") {
+        Some(s) => lab.skybox(s)?,
+        None => None,
+    };
     let camera = match get(root, "Cameras") {
         Some(c) => lab.cameras(c)?,
         None => None,
@@ -99,6 +99,15 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
 
     let mut scene = lab.scene;
     finish_scene(&mut scene, path, camera)?;
+    if let Some(faces) = sky_faces {
+        // Faces are decoded after the materials' textures; the six stay consecutive.
+        let first_texture = scene.textures.len() as u32;
+        for face in &faces {
+            let t = crate::scene::Texture::load(face).with_context(|| format!("{}: Skyboxes", path.display()))?;
+            scene.textures.push(t);
+        }
+        scene.sky = crate::scene::Sky::CubeMap { first_texture, scale: Vec3::ONE };
+    }
     scene.ambient = ambient.unwrap_or(Vec3::ZERO);
     if scene.lights.is_empty() && scene.emissive_triangles().is_empty() {
         let msg = "no lights and no emitting material; added a directional light over the camera's shoulder";
@@ -228,6 +237,26 @@ impl Lab<'_> {
             return Err(self.err(key, format!("file {} not found", p.display())));
         }
         Ok(p)
+    }
+
+    /// The first sky box of `Skyboxes` (a list of six-file lists: +x, -x, +y, -y, +z, -z); the
+    /// lab renderer uses only the first, so the rest get a warning.
+    fn skybox(&mut self, y: &Yaml) -> anyhow::Result<Option<[PathBuf; 6]>> {
+        let boxes = self.list(y, "Skyboxes")?;
+        if boxes.len() > 1 {
+            self.warn_at(Some("Skyboxes"), "only the first sky box is used");
+        }
+        let Some(first) = boxes.first() else { return Ok(None) };
+        let files = self.list(first, "Skyboxes[0]")?;
+        if files.len() != 6 {
+            let msg = format!("expected six face files (+x, -x, +y, -y, +z, -z), found {}", files.len());
+            return Err(self.err("Skyboxes[0]", msg));
+        }
+        let mut faces: [PathBuf; 6] = Default::default();
+        for (i, f) in files.iter().enumerate() {
+            faces[i] = self.existing_file(f, &format!("Skyboxes[0][{i}]"))?;
+        }
+        Ok(Some(faces))
     }
 
     /// Parses every camera (so that errors anywhere are reported) and returns the first.

@@ -20,10 +20,17 @@ pub struct Material {
     pub dissolve: f32,
     /// illum: the MTL illumination model; decides mirror and dielectric behaviour.
     pub illum: u32,
-    /// map_Kd / lab DiffuseMap, resolved to a path. Recorded; textures arrive in a later issue.
+    /// map_Kd / lab DiffuseMap, resolved to a path.
     pub diffuse_map: Option<std::path::PathBuf>,
-    /// map_d, resolved to a path. Recorded only.
+    /// map_d, resolved to a path.
     pub alpha_map: Option<std::path::PathBuf>,
+    /// Index into `Scene::textures` of the decoded `diffuse_map`, whose sRGB colour replaces
+    /// `diffuse` (the lab renderer's rule: albedo = texel^2.2, Kd ignored). Set by
+    /// `texture_binding::load_material_textures`.
+    pub diffuse_texture: Option<u32>,
+    /// Index into `Scene::textures` of the texture whose alpha cuts the surface out: `alpha_map`,
+    /// or the diffuse texture's own alpha channel. Only set when some texel is see-through.
+    pub alpha_texture: Option<u32>,
 }
 
 impl Default for Material {
@@ -39,6 +46,8 @@ impl Default for Material {
             illum: 2,
             diffuse_map: None,
             alpha_map: None,
+            diffuse_texture: None,
+            alpha_texture: None,
         }
     }
 }

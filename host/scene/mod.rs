@@ -5,17 +5,23 @@
 
 pub mod camera;
 pub mod closed_meshes;
+pub mod features;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;
 pub mod material;
 pub mod obj;
 pub mod procedural;
+pub mod sky;
+pub mod texture;
+pub mod texture_binding;
 
 pub use camera::Camera;
 pub use light::Light;
 pub use load::load_scene;
 pub use material::Material;
+pub use sky::Sky;
+pub use texture::Texture;
 
 use glam::{Vec2, Vec3};
 
@@ -62,6 +68,10 @@ pub struct Scene {
     pub camera: Camera,
     /// Constant ambient light added to every surface by the Whitted integrator (lab `AmbientIntensity`).
     pub ambient: Vec3,
+    /// Decoded textures, indexed by `Material::diffuse_texture`/`alpha_texture` and the sky.
+    pub textures: Vec<Texture>,
+    /// What rays that leave the scene see.
+    pub sky: Sky,
     /// Counts of what the loader dropped or changed, for the log.
     pub stats: LoadStats,
 }

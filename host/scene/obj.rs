@@ -153,7 +153,7 @@ pub fn warn(stats: &mut LoadStats, message: String) {
 }
 
 /// What both loaders do last: refuse an empty scene, frame a camera if the file has none, and
-/// say once that textures are not yet used.
+/// decode the materials' textures.
 pub fn finish_scene(scene: &mut Scene, file: &Path, camera: Option<Camera>) -> anyhow::Result<()> {
     if scene.triangles.is_empty() {
         let dropped = scene.stats.dropped_degenerate;
@@ -165,14 +165,8 @@ pub fn finish_scene(scene: &mut Scene, file: &Path, camera: Option<Camera>) -> a
         return Err(InputError::new(file, None, msg).into());
     }
     scene.camera = camera.unwrap_or_else(|| Camera::framing(&scene.bounds()));
-    let textured =
-        scene.materials.iter().filter(|m| m.diffuse_map.is_some() || m.alpha_map.is_some()).count();
-    if textured > 0 {
-        let msg = format!(
-            "textures are not yet supported; {textured} textured material(s) use their constant colour"
-        );
-        warn(&mut scene.stats, InputError::new(file, None, msg).to_string());
-    }
+    // Textures are decoded once per file, here, so that both loaders share the rule.
+    super::texture_binding::load_material_textures(scene, file, &mut super::texture::TextureCache::default())?;
     Ok(())
 }
 
@@ -490,6 +484,8 @@ fn convert_material(m: &tobj::Material, dir: &Path) -> Material {
         illum: m.illumination_model.map_or(d.illum, u32::from),
         diffuse_map: m.diffuse_texture.as_deref().map(|t| texture_path(dir, t)),
         alpha_map: m.dissolve_texture.as_deref().map(|t| texture_path(dir, t)),
+        diffuse_texture: None,
+        alpha_texture: None,
     }
 }
 

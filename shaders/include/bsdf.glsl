@@ -10,9 +10,11 @@
 //   reflectance and refracting otherwise; untinted.
 // Energy: the specular lobe takes Ks and the Lambert lobe Kd * (1 - max(Ks)), so the albedo
 // never exceeds 1; GGX with Smith shadowing loses, never gains, energy.
+// Lobes the scene lacks are compiled out by the HAS_* specialization constants (features.glsl).
 // Needs sampling.glsl and layout.glsl.
 #ifndef VKRT_BSDF_GLSL
 #define VKRT_BSDF_GLSL
+#include "features.glsl"
 
 struct Lobes {
     vec3 kd;
@@ -27,14 +29,14 @@ struct Lobes {
 
 Lobes lobes_of(GpuMaterial m) {
     Lobes l;
-    l.dielectric = (m.flags & MATERIAL_DIELECTRIC) != 0u;
-    l.mirror = !l.dielectric && (m.flags & MATERIAL_MIRROR) != 0u;
+    l.dielectric = HAS_DIELECTRIC && (m.flags & MATERIAL_DIELECTRIC) != 0u;
+    l.mirror = HAS_MIRROR && !l.dielectric && (m.flags & MATERIAL_MIRROR) != 0u;
     l.ior = m.ior;
-    l.ks = l.dielectric ? vec3(0.0) : clamp(m.specular, 0.0, 1.0);
+    l.ks = (l.dielectric || !HAS_GLOSSY) ? vec3(0.0) : clamp(m.specular, 0.0, 1.0);
     l.kd = l.dielectric ? vec3(0.0) : clamp(m.diffuse, 0.0, 1.0) * (1.0 - max3(l.ks));
     float ws = mean3(l.ks);
     float wd = mean3(l.kd);
-    l.p_spec = ws + wd > 0.0 ? ws / (ws + wd) : 0.0;
+    l.p_spec = HAS_GLOSSY && ws + wd > 0.0 ? ws / (ws + wd) : 0.0;
     l.alpha = clamp(sqrt(2.0 / (max(m.shininess, 0.0) + 2.0)), 1e-3, 1.0);
     return l;
 }
@@ -69,7 +71,7 @@ vec3 bsdf_eval(Lobes l, vec3 wo, vec3 wi, out float pdf) {
     if (l.dielectric || wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
     vec3 f = l.kd / PI;
     pdf = (1.0 - l.p_spec) * wi.z / PI;
-    if (!l.mirror && l.p_spec > 0.0) {
+    if (HAS_GLOSSY && !l.mirror && l.p_spec > 0.0) {
         vec3 h = normalize(wo + wi);
         float g2 = 1.0 / (1.0 + ggx_lambda(wo, l.alpha) + ggx_lambda(wi, l.alpha));
         f += l.ks * ggx_d(h, l.alpha) * g2 / (4.0 * wo.z * wi.z);
@@ -121,7 +123,7 @@ bool bsdf_sample(Lobes l, vec3 wo, bool front, float u_lobe, vec2 u, out BsdfSam
     bs.pdf = 0.0;
     bs.delta = true;
     if (wo.z <= 0.0) return false;
-    if (l.dielectric) {
+    if (HAS_DIELECTRIC && l.dielectric) {
         float eta = front ? 1.0 / l.ior : l.ior;
         float cos_t;
         float f = fresnel_dielectric(wo.z, eta, cos_t);
@@ -136,8 +138,8 @@ bool bsdf_sample(Lobes l, vec3 wo, bool front, float u_lobe, vec2 u, out BsdfSam
         }
         return true;
     }
-    bool spec = u_lobe < l.p_spec;
-    if (spec && l.mirror) {
+    bool spec = HAS_GLOSSY && u_lobe < l.p_spec;
+    if (HAS_MIRROR && spec && l.mirror) {
         bs.wi = vec3(-wo.x, -wo.y, wo.z);
         bs.weight = l.ks / l.p_spec;
         return true;
@@ -156,7 +158,7 @@ bool bsdf_sample(Lobes l, vec3 wo, bool front, float u_lobe, vec2 u, out BsdfSam
     // The mixture's density: this lobe's, from how wi was drawn, plus the other lobe's.
     // tests/bsdf.rs checks it against bsdf_eval's, computed from wi alone.
     float other = spec ? (1.0 - l.p_spec) * bs.wi.z / PI
-                       : (!l.mirror && l.p_spec > 0.0 ? l.p_spec * ggx_pdf(wo, normalize(wo + bs.wi), l.alpha) : 0.0);
+                       : (HAS_GLOSSY && !l.mirror && l.p_spec > 0.0 ? l.p_spec * ggx_pdf(wo, normalize(wo + bs.wi), l.alpha) : 0.0);
     bs.pdf = lobe_pdf + other;
     float pdf_eval;
     vec3 f = bsdf_eval(l, wo, bs.wi, pdf_eval);

@@ -42,6 +42,25 @@ struct GpuMaterial {
     float shininess;
     vec3 emission;
     float ior;
+    uint diffuse_texture;
+    uint alpha_texture;
+    uint _pad0;
+    uint _pad1;
+};
+
+struct GpuTexture {
+    uint offset;
+    uint width;
+    uint height;
+    uint _pad0;
+};
+
+struct GpuUv {
+    vec2 uv0;
+    vec2 uv1;
+    vec2 uv2;
+    uint _pad0;
+    uint _pad1;
 };
 
 struct GpuLight {
@@ -79,6 +98,8 @@ struct GpuFrame {
     uint emitter_count;
     uint seed;
     float scene_scale;
+    vec3 sky_color;
+    uint sky_texture;
 };
 
 struct GpuPush {

@@ -44,7 +44,7 @@ bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls)
     float pmf;
     uint j = pick_light(u_pick, pmf);
     if (pmf <= 0.0) return false;
-    if (j < frame.emitter_count) {
+    if (HAS_EMITTERS && j < frame.emitter_count) {
         GpuEmitter em = emitters[j];
         vec3 b = sample_triangle_bary(u);
         vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
@@ -62,8 +62,9 @@ bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls)
         ls.span_tmax = 1.0;
         return true;
     }
+    if (!(HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT)) return false;
     GpuLight light = lights[j - frame.emitter_count];
-    if (light.kind == LIGHT_DIRECTIONAL) {
+    if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
         // Irradiance `intensity` on a surface facing the light.
         ls.wi = light.direction;
         ls.li_over_pdf = light.intensity / pmf;
@@ -77,7 +78,7 @@ bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls)
     ls.wi = to_light / dist;
     // Radiant intensity toward p: `intensity` (point) or intensity 4 pi r^2 max(0, cos) (spot).
     vec3 i = light.intensity;
-    if (light.kind == LIGHT_SPOT) i *= 4.0 * PI * light.radius * light.radius * max(dot(light.direction, -ls.wi), 0.0);
+    if (HAS_SPOT && light.kind == LIGHT_SPOT) i *= 4.0 * PI * light.radius * light.radius * max(dot(light.direction, -ls.wi), 0.0);
     ls.li_over_pdf = i / (d2 * pmf);
     ls.span = ls.wi;
     ls.span_tmax = dist;

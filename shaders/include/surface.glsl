@@ -1,5 +1,5 @@
 // What a closest hit tells the shading code: position, normals, material.
-// Needs scene_bindings.glsl and traverse.glsl.
+// Needs scene_bindings.glsl, traverse.glsl, features.glsl and texture.glsl.
 #ifndef VKRT_SURFACE_GLSL
 #define VKRT_SURFACE_GLSL
 
@@ -32,6 +32,15 @@ Surface surface_at(Hit h, vec3 dir) {
     s.ns = dot(ns, s.ng) < 0.0 ? -ns : ns;
     s.material = sh.material;
     return s;
+}
+
+// The material at a hit, its diffuse colour replaced by the texture's there if it has one.
+GpuMaterial material_at(Hit h, Surface s) {
+    GpuMaterial m = materials[s.material];
+    if (HAS_TEXTURES && m.diffuse_texture != TEXTURE_NONE) {
+        m.diffuse = texture_uv(m.diffuse_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+    }
+    return m;
 }
 
 #endif

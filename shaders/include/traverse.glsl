@@ -42,6 +42,10 @@ bool test_leaf(uint leaf, RayPre r, inout float tmax, inout Hit hit, bool any_hi
         hit.tris_tested++;
         float t, u, v;
         if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
+#ifdef VKRT_ALPHA_GLSL
+            // A see-through texel is no hit at all (alpha.glsl).
+            if (!alpha_passes(tri.prim, u, v)) continue;
+#endif
             tmax = t;
             hit.t = t;
             hit.prim = tri.prim;

@@ -16,7 +16,8 @@ void main() {
     // Touch every binding so the compiler keeps it.
     float s = nodes[0].bmin.x + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
-            + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth);
+            + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
+            + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x;
     accum[0] = vec4(s);
     hits[0].t = s;
     accum_even[0] = vec4(s);

@@ -1,0 +1,49 @@
+//! What rays that leave the scene see: nothing (black), a constant radiance (`--sky R,G,B`) or
+//! a cube map (lab `Skyboxes`).
+
+use glam::Vec3;
+
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Sky {
+    /// Black: escaping rays carry nothing (the default, as in the seed renderer).
+    #[default]
+    None,
+    /// The same radiance (linear RGB) from every direction.
+    Constant(Vec3),
+    /// Six faces in `Scene::textures`, starting at `first_texture`, in the order +x, -x, +y, -y,
+    /// +z, -z (the lab's `Skyboxes` order and OpenGL's), looked up as an OpenGL cube map;
+    /// radiance = face texel^2.2 times `scale`.
+    CubeMap { first_texture: u32, scale: Vec3 },
+}
+
+impl Sky {
+    pub fn is_some(&self) -> bool {
+        match *self {
+            Sky::None => false,
+            Sky::Constant(c) => c.max_element() > 0.0,
+            Sky::CubeMap { scale, .. } => scale.max_element() > 0.0,
+        }
+    }
+
+    /// (colour, first face texture or `TEXTURE_NONE`) as `GpuFrame` stores them.
+    pub fn gpu(&self) -> ([f32; 3], u32) {
+        use crate::layout::constants::TEXTURE_NONE;
+        match *self {
+            Sky::None => ([0.0; 3], TEXTURE_NONE),
+            Sky::Constant(c) => (c.to_array(), TEXTURE_NONE),
+            Sky::CubeMap { first_texture, scale } => (scale.to_array(), first_texture),
+        }
+    }
+
+    /// Parses `--sky R,G,B`.
+    pub fn parse_constant(s: &str) -> anyhow::Result<Sky> {
+        let v: Vec<f32> = s
+            .split(',')
+            .map(|c| c.trim().parse::<f32>().map_err(|e| anyhow::anyhow!("--sky '{s}': '{c}' is not a number ({e})")))
+            .collect::<anyhow::Result<_>>()?;
+        match v[..] {
+            [r, g, b] if v.iter().all(|c| c.is_finite() && *c >= 0.0) => Ok(Sky::Constant(Vec3::new(r, g, b))),
+            _ => anyhow::bail!("--sky '{s}': expected three non-negative numbers R,G,B"),
+        }
+    }
+}

@@ -1,0 +1,20 @@
+// What the scene uses, as specialization constants (ids SPEC_* in host/layout/constants.rs,
+// values from host/scene/features.rs). Each defaults to true, so a pipeline made without
+// specialization info is the all-features shader; a false one lets the driver's compiler fold
+// the branch away, so a scene pays only for what it uses.
+#ifndef VKRT_FEATURES_GLSL
+#define VKRT_FEATURES_GLSL
+#include "constants.glsl"
+
+layout(constant_id = SPEC_HAS_TEXTURES) const bool HAS_TEXTURES = true;
+layout(constant_id = SPEC_HAS_ALPHA) const bool HAS_ALPHA = true;
+layout(constant_id = SPEC_HAS_DIELECTRIC) const bool HAS_DIELECTRIC = true;
+layout(constant_id = SPEC_HAS_MIRROR) const bool HAS_MIRROR = true;
+layout(constant_id = SPEC_HAS_GLOSSY) const bool HAS_GLOSSY = true;
+layout(constant_id = SPEC_HAS_EMITTERS) const bool HAS_EMITTERS = true;
+layout(constant_id = SPEC_HAS_POINT) const bool HAS_POINT = true;
+layout(constant_id = SPEC_HAS_DIRECTIONAL) const bool HAS_DIRECTIONAL = true;
+layout(constant_id = SPEC_HAS_SPOT) const bool HAS_SPOT = true;
+layout(constant_id = SPEC_HAS_SKY) const bool HAS_SKY = true;
+
+#endif
