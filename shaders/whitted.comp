@@ -43,56 +43,66 @@ vec3 blinn_phong(GpuMaterial m, Surface s, vec3 view, vec3 l, vec3 e) {
     return c * e;
 }
 
+// Ambient plus every light and emitter sample that sees s. The point lights and the emitter
+// samples share one loop (index i < light_count: a light; after that, emitter sample
+// i - light_count), so the shadow query is written once: lavapipe compiles every inlined copy
+// of the traversal loop separately, and each copy costs a second or so of pipeline creation
+// time (tools/pipeline_time.rs). Contributions are added in the same order as two loops would.
+// Light kinds and emitters the scene lacks are compiled out by the specialization constants
+// (features.glsl): their counts are then treated as 0 and their code is never reached.
 vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
     vec3 result = frame.ambient * m.diffuse;
     vec3 origin = offset_ray(s.p, s.ng, frame.scene_scale);
-    for (uint i = 0u; (HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT) && i < frame.light_count; i++) {
-        GpuLight light = lights[i];
-        // Kinds the scene lacks are compiled out (features.glsl); their code is never reached.
-        if ((!HAS_POINT && light.kind == LIGHT_POINT) || (!HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL)
-            || (!HAS_SPOT && light.kind == LIGHT_SPOT)) continue;
+    uint light_count = (HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT) ? frame.light_count : 0u;
+    uint emitter_count = HAS_EMITTERS ? frame.emitter_count : 0u;
+    uint shadow_count = light_count + emitter_count * WHITTED_EMITTER_SAMPLES;
+    for (uint i = 0u; i < shadow_count; i++) {
         vec3 l;
         vec3 e;
-        float dist;
-        if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
-            l = light.direction;
-            e = light.intensity;
-            dist = 1.0 / 0.0;
-        } else {
-            vec3 to_light = light.position - s.p;
-            float d2 = dot(to_light, to_light);
-            dist = sqrt(d2);
-            l = to_light / dist;
-            e = light.intensity / d2;
-            if (HAS_SPOT && light.kind == LIGHT_SPOT) {
-                // intensity * 4 pi r^2 * cos / d^2, over pi (scene::Light).
-                e *= 4.0 * light.radius * light.radius * max(dot(light.direction, -l), 0.0);
+        vec3 span;
+        float tmax;
+        if (i < light_count) {
+            GpuLight light = lights[i];
+            if ((!HAS_POINT && light.kind == LIGHT_POINT) || (!HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL)
+                || (!HAS_SPOT && light.kind == LIGHT_SPOT)) continue;
+            if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
+                l = light.direction;
+                e = light.intensity;
+                tmax = 1.0 / 0.0;
+            } else {
+                vec3 to_light = light.position - s.p;
+                float d2 = dot(to_light, to_light);
+                tmax = sqrt(d2);
+                l = to_light / tmax;
+                e = light.intensity / d2;
+                if (HAS_SPOT && light.kind == LIGHT_SPOT) {
+                    // intensity * 4 pi r^2 * cos / d^2, over pi (scene::Light).
+                    e *= 4.0 * light.radius * light.radius * max(dot(light.direction, -l), 0.0);
+                }
             }
-        }
-        if (dot(s.ng, l) <= 0.0 || all(equal(e, vec3(0.0)))) continue;
-        if (occluded(origin, l, 0.0, dist)) continue;
-        result += blinn_phong(m, s, view, l, e);
-    }
-    for (uint i = 0u; HAS_EMITTERS && i < frame.emitter_count; i++) {
-        GpuEmitter em = emitters[i];
-        vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
-        for (uint k = 0u; k < WHITTED_EMITTER_SAMPLES; k++) {
-            vec3 b = EMITTER_SAMPLE_BARY[k];
+            if (dot(s.ng, l) <= 0.0 || all(equal(e, vec3(0.0)))) continue;
+            span = l;
+        } else {
+            uint j = i - light_count;
+            GpuEmitter em = emitters[j / WHITTED_EMITTER_SAMPLES];
+            vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
+            vec3 b = EMITTER_SAMPLE_BARY[j % WHITTED_EMITTER_SAMPLES];
             vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
             vec3 to_light = q - s.p;
             float d2 = dot(to_light, to_light);
-            vec3 l = to_light * inversesqrt(d2);
+            l = to_light * inversesqrt(d2);
             float cos_light = dot(en, -l);
             // Emitters emit from their front face only.
             if (cos_light <= 0.0 || dot(s.ng, l) <= 0.0) continue;
             // Radiance * area * cos / d^2 is the irradiance of this piece, over pi (scene::Light).
-            vec3 e = em.radiance * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
+            e = em.radiance * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
             // Shadow ray between the two offset points, so neither surface occludes itself.
             vec3 target = offset_ray(q, en, frame.scene_scale);
-            vec3 span = target - origin;
-            if (occluded(origin, span, 0.0, 1.0)) continue;
-            result += blinn_phong(m, s, view, l, e);
+            span = target - origin;
+            tmax = 1.0;
         }
+        if (occluded(origin, span, 0.0, tmax)) continue;
+        result += blinn_phong(m, s, view, l, e);
     }
     return result;
 }

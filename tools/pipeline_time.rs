@@ -1,0 +1,86 @@
+//! How long the driver takes to make each tracing pipeline ready: vkCreateComputePipelines plus
+//! a first one-workgroup dispatch that returns at once (zeroed frame and push constants). On
+//! lavapipe most of the cost is in that first dispatch, where llvmpipe runs LLVM code
+//! generation, and it grows with the number of places the traversal loop is inlined.
+//! A benchmark, not a test.
+//!
+//! Usage: MESA_SHADER_CACHE_DISABLE=true cargo run --release --bin vkrt-pipeline-time -- [REPEAT] [VARIANT...]
+//! (default: best of 3 for every whitted, path and trace variant). Without the cache switch,
+//! Mesa's on-disk shader cache answers every run after the first.
+
+use anyhow::Result;
+use std::time::Instant;
+use ash::vk;
+use vkrt::gpu::commands::submit_and_wait;
+use vkrt::gpu::{Buffer, Context, ContextOptions, MemoryLocation};
+use vkrt::layout::constants::*;
+use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
+
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<()> {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let repeat = match args.first().and_then(|a| a.parse::<usize>().ok()) {
+        Some(n) => {
+            args.remove(0);
+            n.max(1)
+        }
+        None => 3,
+    };
+    let names: Vec<&str> = if args.is_empty() {
+        shaders::ALL.iter().map(|(n, _)| *n).filter(|n| n.starts_with("whitted") || n.starts_with("path") || n.starts_with("trace")).collect()
+    } else {
+        args.iter().map(String::as_str).collect()
+    };
+    // Every binding any tracing shader declares; unused ones cost nothing.
+    let bindings: Vec<(u32, BindingKind)> = (0..=BINDING_ACCUM_EVEN)
+        .map(|b| (b, if b == BINDING_FRAME || b == BINDING_PATH_PARAMS { BindingKind::Uniform } else { BindingKind::Storage }))
+        .collect();
+    let ctx = Context::new(&ContextOptions::from_env())?;
+    println!("device: {}\n", ctx.info.name);
+    // Zeroed buffers: frame.width = 0 and ray_count = 0 make every invocation return at once.
+    let buffers = bindings
+        .iter()
+        .map(|&(b, kind)| {
+            let usage = if kind == BindingKind::Uniform { vk::BufferUsageFlags::UNIFORM_BUFFER } else { vk::BufferUsageFlags::STORAGE_BUFFER };
+            let buf = Buffer::new(&ctx, "dummy", 256, usage, MemoryLocation::Device)?;
+            buf.clear()?;
+            Ok((b, buf))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let push = [0u8; std::mem::size_of::<vkrt::layout::GpuPush>()];
+    println!("| variant | SPIR-V bytes | create + first dispatch ms (best of {repeat}) |");
+    println!("|---|---:|---:|");
+    // Interleaved: round r creates every variant once, so a slow spell hits all of them.
+    let mut best = vec![f64::INFINITY; names.len()];
+    for _ in 0..repeat {
+        for (i, name) in names.iter().enumerate() {
+            let spv = shaders::ALL
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, s)| *s)
+                .ok_or_else(|| anyhow::anyhow!("no shader variant '{name}'"))?;
+            let t = Instant::now();
+            let pipeline = ComputePipeline::new(&ctx, name, spv, &bindings, std::mem::size_of::<vkrt::layout::GpuPush>() as u32)?;
+            for (b, buf) in &buffers {
+                pipeline.bind(*b, buf)?;
+            }
+            submit_and_wait(&ctx, "first dispatch", |cmd| pipeline.record_dispatch(cmd, &push, [1, 1, 1]))?;
+            best[i] = best[i].min(t.elapsed().as_secs_f64());
+            drop(pipeline);
+        }
+    }
+    for (i, name) in names.iter().enumerate() {
+        let bytes = shaders::ALL.iter().find(|(n, _)| n == name).map_or(0, |(_, s)| s.len());
+        println!("| {name} | {bytes} | {:.0} |", best[i] * 1e3);
+    }
+    Ok(())
+}
