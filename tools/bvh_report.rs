@@ -9,13 +9,7 @@ use std::time::Instant;
 use vkrt::bvh::{self, stats::stats, validate::validate, BuildConfig, BuilderKind};
 
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    vkrt::error::exit_code(run())
 }
 
 fn run() -> Result<()> {

@@ -8,6 +8,9 @@
 //! (default: best of 3 for every whitted, path and trace variant). Without the cache switch,
 //! Mesa's on-disk shader cache answers every run after the first.
 
+#[path = "args.rs"]
+mod args;
+
 use anyhow::Result;
 use std::time::Instant;
 use ash::vk;
@@ -17,24 +20,12 @@ use vkrt::layout::constants::*;
 use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
 
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    vkrt::error::exit_code(run())
 }
 
 fn run() -> Result<()> {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let repeat = match args.first().and_then(|a| a.parse::<usize>().ok()) {
-        Some(n) => {
-            args.remove(0);
-            n.max(1)
-        }
-        None => 3,
-    };
+    let repeat = args::leading_count(&mut args, 3);
     let names: Vec<&str> = if args.is_empty() {
         shaders::ALL.iter().map(|(n, _)| *n).filter(|n| n.starts_with("whitted") || n.starts_with("path") || n.starts_with("trace")).collect()
     } else {

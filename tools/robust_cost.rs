@@ -20,13 +20,7 @@ use vkrt::pipeline::shaders;
 use vkrt::scene::closed_meshes::{icosphere, subdivided_cube, torus};
 
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    vkrt::error::exit_code(run())
 }
 
 /// Best of three: rays per second through `query`, upload and read-back included.

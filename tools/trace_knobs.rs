@@ -5,6 +5,9 @@
 //! Usage: cargo run --release --bin vkrt-trace-knobs -- [ROUNDS] [SCENE...]
 //! (default: 3 rounds on scenes/bench/conference.yaml)
 
+#[path = "args.rs"]
+mod args;
+
 use anyhow::Result;
 use std::time::Instant;
 use vkrt::bench::rays;
@@ -15,24 +18,12 @@ use vkrt::integrator::ray_query::RayQuery;
 use vkrt::layout::LayoutKind;
 
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    vkrt::error::exit_code(run())
 }
 
 fn run() -> Result<()> {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let rounds = match args.first().and_then(|a| a.parse::<usize>().ok()) {
-        Some(n) => {
-            args.remove(0);
-            n.max(1)
-        }
-        None => 3,
-    };
+    let rounds = args::leading_count(&mut args, 3);
     if args.is_empty() {
         args = vec!["scenes/bench/conference.yaml".into()];
     }
