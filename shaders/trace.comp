@@ -2,6 +2,11 @@
 // Batch ray queries: one invocation per ray, closest or any hit, with traversal counters.
 // Used by the GPU agreement tests and by tools that compare BVH layouts.
 #extension GL_GOOGLE_include_directive : require
+#ifdef PACKET_TRAVERSAL
+// subgroupAny/subgroupAll for the packet walk (traverse_packet.glsl).
+#extension GL_KHR_shader_subgroup_vote : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#endif
 
 #include "bvh_bindings.glsl"
 #include "intersect.glsl"

@@ -29,6 +29,9 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "trace_parent_link", source: "trace.comp", defines: &["LAYOUT_PARENT_LINK"] },
     // The textbook intersection tests, only to measure what the robust ones cost.
     Variant { name: "trace_plain", source: "trace.comp", defines: &["PLAIN_INTERSECT"] },
+    // Subgroup-coherent walk of the threaded layout (traverse_packet.glsl); an experiment,
+    // measured by tools/packet_cost.rs, not used by the integrators.
+    Variant { name: "trace_packet", source: "trace.comp", defines: &["PACKET_TRAVERSAL"] },
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
     Variant { name: "layout_probe_parent_link", source: "test/layout_probe.comp", defines: &["LAYOUT_PARENT_LINK"] },
     Variant { name: "bsdf_probe", source: "test/bsdf_probe.comp", defines: &[] },
