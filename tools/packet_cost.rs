@@ -28,13 +28,7 @@ const TILE_W: u32 = 4;
 const TILE_H: u32 = 2;
 
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    vkrt::error::exit_code(run())
 }
 
 /// Scanline-ordered rays of a `width` x `height` image reordered tile by tile (row-major
