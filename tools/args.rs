@@ -12,3 +12,18 @@ pub fn leading_count(args: &mut Vec<String>, default: usize) -> usize {
         None => default,
     }
 }
+
+/// The scenes named on the command line, or the benchmark views of Conference and Sponza when
+/// none is given; None (after printing the usage line) for `-h` / `--help`.
+#[allow(dead_code)]
+pub fn scenes_or_default(tool: &str) -> Option<Vec<String>> {
+    let scenes: Vec<String> = std::env::args().skip(1).collect();
+    if scenes.iter().any(|a| a == "-h" || a == "--help") {
+        println!("usage: {tool} [SCENE...]");
+        return None;
+    }
+    if scenes.is_empty() {
+        return Some(vec!["scenes/bench/conference.yaml".into(), "scenes/bench/sponza.yaml".into()]);
+    }
+    Some(scenes)
+}

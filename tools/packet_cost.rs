@@ -11,6 +11,9 @@
 //! Usage: cargo run --release --bin vkrt-packet-cost -- [SCENE...]
 //! (default scenes: scenes/bench/conference.yaml scenes/bench/sponza.yaml)
 
+#[path = "args.rs"]
+mod args;
+
 use anyhow::{bail, Result};
 use std::time::Instant;
 use vkrt::bench::rays;
@@ -77,14 +80,7 @@ fn mean_nodes(query: &RayQuery, rays: &[GpuRay], any_hit: bool) -> Result<f64> {
 }
 
 fn run() -> Result<()> {
-    let mut scenes: Vec<String> = std::env::args().skip(1).collect();
-    if scenes.iter().any(|a| a == "-h" || a == "--help") {
-        println!("usage: vkrt-packet-cost [SCENE...]");
-        return Ok(());
-    }
-    if scenes.is_empty() {
-        scenes = vec!["scenes/bench/conference.yaml".into(), "scenes/bench/sponza.yaml".into()];
-    }
+    let Some(scenes) = args::scenes_or_default("vkrt-packet-cost") else { return Ok(()) };
     let ctx = Context::new(&ContextOptions::from_env())?;
     println!("device: {}\n", ctx.info.name);
     println!("| scene | rays | threaded M rays/s | packet M rays/s | packet / threaded | nodes/ray threaded | nodes/ray packet |");

@@ -6,6 +6,9 @@
 //! Usage: cargo run --release --bin vkrt-robust-cost -- [SCENE...]
 //! (default scenes: scenes/bench/conference.yaml scenes/bench/sponza.yaml)
 
+#[path = "args.rs"]
+mod args;
+
 use anyhow::Result;
 use glam::Vec3;
 use std::time::Instant;
@@ -35,14 +38,7 @@ fn rays_per_second(query: &RayQuery, rays: &[GpuRay]) -> Result<f64> {
 }
 
 fn run() -> Result<()> {
-    let mut scenes: Vec<String> = std::env::args().skip(1).collect();
-    if scenes.iter().any(|a| a == "-h" || a == "--help") {
-        println!("usage: vkrt-robust-cost [SCENE...]");
-        return Ok(());
-    }
-    if scenes.is_empty() {
-        scenes = vec!["scenes/bench/conference.yaml".into(), "scenes/bench/sponza.yaml".into()];
-    }
+    let Some(scenes) = args::scenes_or_default("vkrt-robust-cost") else { return Ok(()) };
     let ctx = Context::new(&ContextOptions::from_env())?;
     println!("device: {}\n", ctx.info.name);
     println!("| scene | rays | robust M rays/s | plain M rays/s | robust / plain |");
