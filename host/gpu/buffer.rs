@@ -36,7 +36,12 @@ impl<'a> Buffer<'a> {
     /// still needs something bound).
     pub fn new(ctx: &'a Context, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Self> {
         let size = size.max(16);
-        let usage = usage | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        // Every storage buffer can be read through its device address (see `device_address`).
+        let addressable = usage.contains(vk::BufferUsageFlags::STORAGE_BUFFER);
+        let mut usage = usage | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+        if addressable {
+            usage |= vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+        }
         let info = vk::BufferCreateInfo::default().size(size).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
         let dev = &ctx.device;
         // SAFETY: valid device and create info; every object is destroyed on the error paths below or in Drop.
@@ -57,7 +62,11 @@ impl<'a> Buffer<'a> {
                 dev.destroy_buffer(buffer, None);
                 return Err(anyhow!("no suitable memory type for buffer '{name}'"));
             };
-            let alloc = vk::MemoryAllocateInfo::default().allocation_size(req.size).memory_type_index(type_index);
+            let mut flags = vk::MemoryAllocateFlagsInfo::default().flags(vk::MemoryAllocateFlags::DEVICE_ADDRESS);
+            let mut alloc = vk::MemoryAllocateInfo::default().allocation_size(req.size).memory_type_index(type_index);
+            if addressable {
+                alloc = alloc.push_next(&mut flags);
+            }
             let memory = match dev.allocate_memory(&alloc, None) {
                 Ok(m) => m,
                 Err(e) => {
@@ -75,6 +84,16 @@ impl<'a> Buffer<'a> {
             }
             Ok(made)
         }
+    }
+
+    /// The buffer's device address, as the (low, high) dwords a shader's `uvec2` takes
+    /// (`GL_EXT_buffer_reference_uvec2`). Only storage buffers have one.
+    pub fn device_address(&self) -> [u32; 2] {
+        let info = vk::BufferDeviceAddressInfo::default().buffer(self.buffer);
+        // SAFETY: the buffer is alive and was made with SHADER_DEVICE_ADDRESS (storage usage)
+        // on memory allocated with the DEVICE_ADDRESS flag; the context enables the feature.
+        let address = unsafe { self.ctx.device.get_buffer_device_address(&info) };
+        [address as u32, (address >> 32) as u32]
     }
 
     /// A device buffer holding `data`.

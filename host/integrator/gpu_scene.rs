@@ -3,7 +3,7 @@
 use crate::bvh::{self, BuildConfig, BuilderKind};
 use crate::gpu::{Buffer, Context};
 use crate::layout::flatten::{flatten_as, FlatBvh};
-use crate::layout::LayoutKind;
+use crate::layout::{GpuPush, LayoutKind};
 use crate::layout::scene_buffers::SceneBuffers;
 use crate::layout::texture_atlas::{TextureAtlas, TEXEL_BUDGET_BYTES};
 use crate::scene::Scene;
@@ -57,17 +57,18 @@ pub struct GpuScene<'a> {
     pub light_count: u32,
     pub emitter_count: u32,
     pub triangle_count: u32,
+    /// Nodes in `nodes` (all orders of a multi-order layout).
+    pub node_count: u32,
     /// Which layout `nodes` holds: shaders must be the variant for it.
     pub layout: LayoutKind,
 }
 
 impl<'a> GpuScene<'a> {
-    /// The scene's buffers by binding number, for every integrator shader.
-    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 9] {
+    /// The scene's bound buffers by binding number, for every integrator shader. The BVH
+    /// arrays are not among them: shaders find those through [`GpuScene::push`].
+    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 7] {
         use crate::layout::constants::*;
         [
-            (BINDING_NODES, &self.nodes),
-            (BINDING_TRIANGLES, &self.triangles),
             (BINDING_SHADING, &self.shading),
             (BINDING_MATERIALS, &self.materials),
             (BINDING_LIGHTS, &self.lights),
@@ -76,6 +77,16 @@ impl<'a> GpuScene<'a> {
             (BINDING_TEXELS, &self.texels),
             (BINDING_UVS, &self.uvs),
         ]
+    }
+
+    /// Push constants that locate the BVH arrays; each dispatch fills in the rest.
+    pub fn push(&self) -> GpuPush {
+        GpuPush {
+            node_count: self.node_count,
+            nodes_address: self.nodes.device_address(),
+            triangles_address: self.triangles.device_address(),
+            ..bytemuck::Zeroable::zeroed()
+        }
     }
 
     pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
@@ -92,8 +103,8 @@ impl<'a> GpuScene<'a> {
             Ok(())
         };
         let b = &prepared.buffers;
-        check("BVH nodes", prepared.flat.node_bytes().len())?;
-        check("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
+        // The BVH nodes and triangles are read through device addresses, so the binding
+        // range limit does not apply to them.
         check("shading data", std::mem::size_of_val(b.shading.as_slice()))?;
         check("texels", std::mem::size_of_val(prepared.atlas.texels.as_slice()))?;
         check("texture coordinates", std::mem::size_of_val(b.uvs.as_slice()))?;
@@ -114,6 +125,7 @@ impl<'a> GpuScene<'a> {
             light_count: b.lights.len() as u32,
             emitter_count: b.emitters.len() as u32,
             triangle_count: prepared.flat.triangles.len() as u32,
+            node_count: prepared.flat.node_count() as u32,
             layout: prepared.flat.layout(),
         })
     }

@@ -60,7 +60,7 @@ pub fn render(
     for b in 0..batches {
         let sample_base = b * batch;
         let sample_count = batch.min(settings.spp - sample_base);
-        dispatch_samples(ctx, &pipeline, "whitted tile", settings, sample_base, sample_count, settings.spp, &mut || {
+        dispatch_samples(ctx, &gpu.push(), &pipeline, "whitted tile", settings, sample_base, sample_count, settings.spp, &mut || {
             stats.submissions += 1;
             done += 1;
             progress(done, total);

@@ -237,9 +237,14 @@ pub struct GpuPush {
     pub ray_count: u32,
     /// 1: any-hit (shadow) queries; 0: closest hit.
     pub any_hit: u32,
-    pub _pad0: u32,
+    /// Nodes in the BVH array (all orders of a multi-order layout).
+    pub node_count: u32,
+    /// Device addresses of the BVH node and triangle arrays (low, high dword), read through
+    /// `GL_EXT_buffer_reference` (shaders/include/bvh_bindings.glsl says why).
+    pub nodes_address: [u32; 2],
+    pub triangles_address: [u32; 2],
 }
-const _: () = assert!(std::mem::size_of::<GpuPush>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuPush>() == 48);
 
 /// A ray for batch queries: origin, tmin, direction, tmax (the `vkrt trace` file layout).
 #[repr(C)]

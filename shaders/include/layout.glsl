@@ -110,7 +110,9 @@ struct GpuPush {
     uint total_spp;
     uint ray_count;
     uint any_hit;
-    uint _pad0;
+    uint node_count;
+    uvec2 nodes_address;
+    uvec2 triangles_address;
 };
 
 struct GpuRay {
