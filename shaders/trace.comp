@@ -2,9 +2,7 @@
 // Batch ray queries: one invocation per ray, closest or any hit, with traversal counters.
 // Used by the GPU agreement tests and by tools that compare BVH layouts.
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_buffer_reference : require
-#extension GL_EXT_buffer_reference_uvec2 : require
-#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_samplerless_texture_functions : require
 #ifdef PACKET_TRAVERSAL
 // subgroupAny/subgroupAll for the packet walk (traverse_packet.glsl).
 #extension GL_KHR_shader_subgroup_vote : require

@@ -44,7 +44,7 @@ fn parent_link_node_matches_its_glsl_mirror() {
         .find(|(_, v)| module.types[v.ty].name.as_deref() == Some("Nodes"))
         .map(|(_, v)| v)
         .expect("the Nodes block");
-    assert_eq!(nodes.binding.as_ref().map(|b| b.binding), Some(PROBE_BINDING_NODES));
+    assert_eq!(nodes.binding.as_ref().map(|b| b.binding), Some(BINDING_NODES));
     let naga::TypeInner::Struct { members, .. } = &module.types[nodes.ty].inner else { panic!("Nodes is not a block") };
     let naga::TypeInner::Array { base, stride, .. } = &module.types[members[0].ty].inner else { panic!("Nodes holds no array") };
     assert_eq!(module.types[*base].name.as_deref(), Some(name));
@@ -82,7 +82,7 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
             ambient, max_depth, light_count, emitter_count, seed, scene_scale, sky_color, sky_texture
         }),
         rust_fields!(GpuPush {
-            tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, node_count, nodes_address, triangles_address
+            tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, node_count
         }),
         rust_fields!(GpuRay { origin, tmin, direction, tmax }),
         rust_fields!(GpuHit { t, prim, u, v, nodes_visited, tris_tested, _pad0, _pad1 }),
@@ -103,8 +103,8 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
 fn bindings_and_array_strides_match() {
     let module = probe_module();
     let expected: Vec<(u32, &str, usize)> = vec![
-        (PROBE_BINDING_NODES, "Nodes", size_of::<GpuNode>()),
-        (PROBE_BINDING_TRIANGLES, "Triangles", size_of::<GpuTriangle>()),
+        (BINDING_NODES, "Nodes", size_of::<GpuNode>()),
+        (BINDING_TRIANGLES, "Triangles", size_of::<GpuTriangle>()),
         (BINDING_SHADING, "Shading", size_of::<GpuShading>()),
         (BINDING_MATERIALS, "Materials", size_of::<GpuMaterial>()),
         (BINDING_LIGHTS, "Lights", size_of::<GpuLight>()),

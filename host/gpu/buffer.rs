@@ -36,12 +36,7 @@ impl<'a> Buffer<'a> {
     /// still needs something bound).
     pub fn new(ctx: &'a Context, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Self> {
         let size = size.max(16);
-        // Every storage buffer can be read through its device address (see `device_address`).
-        let addressable = usage.contains(vk::BufferUsageFlags::STORAGE_BUFFER);
-        let mut usage = usage | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
-        if addressable {
-            usage |= vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
-        }
+        let usage = usage | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
         let info = vk::BufferCreateInfo::default().size(size).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
         let dev = &ctx.device;
         // SAFETY: valid device and create info; every object is destroyed on the error paths below or in Drop.
@@ -62,11 +57,7 @@ impl<'a> Buffer<'a> {
                 dev.destroy_buffer(buffer, None);
                 return Err(anyhow!("no suitable memory type for buffer '{name}'"));
             };
-            let mut flags = vk::MemoryAllocateFlagsInfo::default().flags(vk::MemoryAllocateFlags::DEVICE_ADDRESS);
-            let mut alloc = vk::MemoryAllocateInfo::default().allocation_size(req.size).memory_type_index(type_index);
-            if addressable {
-                alloc = alloc.push_next(&mut flags);
-            }
+            let alloc = vk::MemoryAllocateInfo::default().allocation_size(req.size).memory_type_index(type_index);
             let memory = match dev.allocate_memory(&alloc, None) {
                 Ok(m) => m,
                 Err(e) => {
@@ -86,14 +77,18 @@ impl<'a> Buffer<'a> {
         }
     }
 
-    /// The buffer's device address, as the (low, high) dwords a shader's `uvec2` takes
-    /// (`GL_EXT_buffer_reference_uvec2`). Only storage buffers have one.
-    pub fn device_address(&self) -> [u32; 2] {
-        let info = vk::BufferDeviceAddressInfo::default().buffer(self.buffer);
-        // SAFETY: the buffer is alive and was made with SHADER_DEVICE_ADDRESS (storage usage)
-        // on memory allocated with the DEVICE_ADDRESS flag; the context enables the feature.
-        let address = unsafe { self.ctx.device.get_buffer_device_address(&info) };
-        [address as u32, (address >> 32) as u32]
+    /// A view of the whole buffer as 16-byte RGBA32UI texels, for a `utextureBuffer`; the
+    /// buffer needs UNIFORM_TEXEL_BUFFER usage.
+    pub fn texel_view(&self) -> Result<TexelView<'a>> {
+        let info = vk::BufferViewCreateInfo::default()
+            .buffer(self.buffer)
+            .format(vk::Format::R32G32B32A32_UINT)
+            .offset(0)
+            .range(self.size / 16 * 16);
+        // SAFETY: valid buffer made with texel usage (checked by the validation layers in tests).
+        let view = unsafe { self.ctx.device.create_buffer_view(&info, None) }
+            .with_context(|| format!("vkCreateBufferView '{}'", self.name))?;
+        Ok(TexelView { ctx: self.ctx, view })
     }
 
     /// A device buffer holding `data`.
@@ -158,6 +153,19 @@ fn copy(ctx: &Context, src: &Buffer, dst: &Buffer, len: u64) -> Result<()> {
     submit_and_wait(ctx, &format!("copy '{}' to '{}'", src.name, dst.name), |cmd| unsafe {
         ctx.device.cmd_copy_buffer(cmd, src.buffer, dst.buffer, &region);
     })
+}
+
+/// A texel view of a [`Buffer`], destroyed on drop (before the buffer).
+pub struct TexelView<'a> {
+    ctx: &'a Context,
+    pub view: vk::BufferView,
+}
+
+impl Drop for TexelView<'_> {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission uses the view (vkrt waits for each).
+        unsafe { self.ctx.device.destroy_buffer_view(self.view, None) };
+    }
 }
 
 impl Drop for Buffer<'_> {

@@ -145,7 +145,7 @@ pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize
             let names: Vec<String> = infos.iter().map(|d| format!("[{}] {}", d.index, d.name)).collect();
             match found {
                 Some(d) if d.usable => Ok(d.index),
-                Some(d) => bail!("device '{w}' ({}) is not usable: it needs Vulkan 1.2 with bufferDeviceAddress and shaderInt64, and a compute queue", d.name),
+                Some(d) => bail!("device '{w}' ({}) is not usable: it needs Vulkan 1.2 and a compute queue", d.name),
                 None => bail!("no Vulkan device matches '{w}'; devices: {}", names.join(", ")),
             }
         }
@@ -234,11 +234,7 @@ impl Context {
             .ok_or_else(|| anyhow!("device {} has no compute queue", info.name))?;
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
-        // Buffer device addresses and 64-bit integers: the BVH arrays are read through them
-        // (shaders/include/bvh_bindings.glsl); `DeviceInfo::usable` checked both.
-        let mut features12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
-        let features10 = vk::PhysicalDeviceFeatures::default().shader_int64(true);
-        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info).enabled_features(&features10).push_next(&mut features12);
+        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
         let device = instance
             .create_device(physical, &device_info, None)
             .with_context(|| format!("vkCreateDevice on {}", info.name))?;

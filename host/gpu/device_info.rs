@@ -13,6 +13,8 @@ pub struct DeviceInfo {
     pub driver_info: String,
     pub driver_version: u32,
     pub max_storage_buffer_range: u32,
+    /// Most texels one texel-buffer view may hold (the BVH arrays are read as RGBA32UI texels).
+    pub max_texel_buffer_elements: u32,
     pub max_workgroup_size: [u32; 3],
     pub max_workgroup_invocations: u32,
     pub subgroup_size: u32,
@@ -51,15 +53,6 @@ impl DeviceInfo {
             .iter()
             .any(|q| q.queue_flags.contains(vk::QueueFlags::COMPUTE));
         let api_ok = vk::api_version_major(p.api_version) > 1 || vk::api_version_minor(p.api_version) >= 2;
-        // The BVH is read through 64-bit loads from buffer device addresses (bvh_bindings.glsl).
-        let mut features12 = vk::PhysicalDeviceVulkan12Features::default();
-        let mut int64 = false;
-        if api_ok {
-            let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut features12);
-            instance.get_physical_device_features2(pd, &mut features2);
-            int64 = features2.features.shader_int64 == vk::TRUE;
-        }
-        let buffer_device_address = features12.buffer_device_address == vk::TRUE;
         Self {
             index,
             name: cstr_field(&p.device_name),
@@ -69,12 +62,13 @@ impl DeviceInfo {
             driver_info: cstr_field(&driver.driver_info),
             driver_version: p.driver_version,
             max_storage_buffer_range: p.limits.max_storage_buffer_range,
+            max_texel_buffer_elements: p.limits.max_texel_buffer_elements,
             max_workgroup_size: p.limits.max_compute_work_group_size,
             max_workgroup_invocations: p.limits.max_compute_work_group_invocations,
             subgroup_size: subgroup.subgroup_size,
             max_push_constants_size: p.limits.max_push_constants_size,
             device_local_bytes,
-            usable: has_compute && api_ok && buffer_device_address && int64,
+            usable: has_compute && api_ok,
         }
     }
 
@@ -103,9 +97,10 @@ impl DeviceInfo {
 impl fmt::Display for DeviceInfo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = self.api_version;
-        writeln!(f, "[{}] {} ({}){}", self.index, self.name, self.type_name(), if self.usable { "" } else { " - not usable: needs Vulkan 1.2 with bufferDeviceAddress and shaderInt64, and a compute queue" })?;
+        writeln!(f, "[{}] {} ({}){}", self.index, self.name, self.type_name(), if self.usable { "" } else { " - not usable: needs Vulkan 1.2 and a compute queue" })?;
         writeln!(f, "    Vulkan {}.{}.{}, driver {} {}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v), self.driver_name, self.driver_info)?;
         writeln!(f, "    max storage buffer range: {} MiB", self.max_storage_buffer_range / (1024 * 1024))?;
+        writeln!(f, "    max texel buffer elements: {}", self.max_texel_buffer_elements)?;
         writeln!(f, "    max workgroup size: {:?}, max invocations: {}", self.max_workgroup_size, self.max_workgroup_invocations)?;
         writeln!(f, "    subgroup size: {}", self.subgroup_size)?;
         writeln!(f, "    max push constants: {} bytes", self.max_push_constants_size)?;

@@ -1,9 +1,10 @@
 //! A scene uploaded to the GPU: BVH arrays plus shading data, ready to bind.
 
 use crate::bvh::{self, BuildConfig, BuilderKind};
-use crate::gpu::{Buffer, Context};
+use crate::gpu::{Buffer, Context, TexelView};
 use crate::layout::flatten::{flatten_as, FlatBvh};
 use crate::layout::{GpuPush, LayoutKind};
+use crate::pipeline::ComputePipeline;
 use crate::layout::scene_buffers::SceneBuffers;
 use crate::layout::texture_atlas::{TextureAtlas, TEXEL_BUDGET_BYTES};
 use crate::scene::Scene;
@@ -45,6 +46,9 @@ impl PreparedScene {
 
 /// The scene's buffers on the device.
 pub struct GpuScene<'a> {
+    // Views first: they are dropped before the buffers they view.
+    pub node_texels: TexelView<'a>,
+    pub triangle_texels: TexelView<'a>,
     pub nodes: Buffer<'a>,
     pub triangles: Buffer<'a>,
     pub shading: Buffer<'a>,
@@ -64,8 +68,8 @@ pub struct GpuScene<'a> {
 }
 
 impl<'a> GpuScene<'a> {
-    /// The scene's bound buffers by binding number, for every integrator shader. The BVH
-    /// arrays are not among them: shaders find those through [`GpuScene::push`].
+    /// The scene's storage buffers by binding number, for every integrator shader; the BVH
+    /// texel buffers are bound by [`GpuScene::bind_bvh`].
     pub fn bindings(&self) -> [(u32, &Buffer<'a>); 7] {
         use crate::layout::constants::*;
         [
@@ -79,14 +83,16 @@ impl<'a> GpuScene<'a> {
         ]
     }
 
-    /// Push constants that locate the BVH arrays; each dispatch fills in the rest.
+    /// The scene's part of the push constants; each dispatch fills in the rest.
     pub fn push(&self) -> GpuPush {
-        GpuPush {
-            node_count: self.node_count,
-            nodes_address: self.nodes.device_address(),
-            triangles_address: self.triangles.device_address(),
-            ..bytemuck::Zeroable::zeroed()
-        }
+        GpuPush { node_count: self.node_count, ..bytemuck::Zeroable::zeroed() }
+    }
+
+    /// Binds the BVH node and triangle texel buffers (BINDING_NODES, BINDING_TRIANGLES).
+    pub fn bind_bvh(&self, pipeline: &ComputePipeline) -> Result<()> {
+        use crate::layout::constants::{BINDING_NODES, BINDING_TRIANGLES};
+        pipeline.bind_texels(BINDING_NODES, &self.node_texels)?;
+        pipeline.bind_texels(BINDING_TRIANGLES, &self.triangle_texels)
     }
 
     pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
@@ -103,8 +109,15 @@ impl<'a> GpuScene<'a> {
             Ok(())
         };
         let b = &prepared.buffers;
-        // The BVH nodes and triangles are read through device addresses, so the binding
-        // range limit does not apply to them.
+        let max_texels = ctx.info.max_texel_buffer_elements as usize;
+        let check_texels = |name: &str, bytes: usize| -> Result<()> {
+            if bytes / 16 > max_texels {
+                anyhow::bail!("the scene's {name} take {} texels, over this device's texel-buffer limit of {max_texels}", bytes / 16);
+            }
+            Ok(())
+        };
+        check_texels("BVH nodes", prepared.flat.node_bytes().len())?;
+        check_texels("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
         check("shading data", std::mem::size_of_val(b.shading.as_slice()))?;
         check("texels", std::mem::size_of_val(prepared.atlas.texels.as_slice()))?;
         check("texture coordinates", std::mem::size_of_val(b.uvs.as_slice()))?;
@@ -112,9 +125,14 @@ impl<'a> GpuScene<'a> {
         fn or_one<T: bytemuck::Pod>(v: &[T]) -> std::borrow::Cow<'_, [T]> {
             if v.is_empty() { vec![T::zeroed()].into() } else { v.into() }
         }
+        let texels = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        let nodes = Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), texels)?;
+        let triangles = Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, texels)?;
         Ok(Self {
-            nodes: Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), storage)?,
-            triangles: Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, storage)?,
+            node_texels: nodes.texel_view()?,
+            triangle_texels: triangles.texel_view()?,
+            nodes,
+            triangles,
             shading: Buffer::with_data(ctx, "shading", &b.shading, storage)?,
             materials: Buffer::with_data(ctx, "materials", &b.materials, storage)?,
             lights: Buffer::with_data(ctx, "lights", &b.lights, storage)?,

@@ -200,6 +200,7 @@ pub fn render(
         &features.spec_constants(),
     )?;
     bind_all(&pipeline, &gpu.bindings())?;
+    gpu.bind_bvh(&pipeline)?;
     bind_all(
         &pipeline,
         &[

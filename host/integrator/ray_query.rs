@@ -37,10 +37,13 @@ impl<'a> RayQuery<'a> {
         let ray_buf = Buffer::new(ctx, "rays", (RAYS_PER_BATCH * std::mem::size_of::<GpuRay>()) as u64, storage, MemoryLocation::Device)?;
         let hit_buf = Buffer::new(ctx, "hits", (RAYS_PER_BATCH * std::mem::size_of::<GpuHit>()) as u64, storage, MemoryLocation::Device)?;
         let bindings = [
+            (BINDING_NODES, BindingKind::Texels),
+            (BINDING_TRIANGLES, BindingKind::Texels),
             (BINDING_RAYS, BindingKind::Storage),
             (BINDING_HITS, BindingKind::Storage),
         ];
         let pipeline = ComputePipeline::new(ctx, "trace", spv, &bindings, std::mem::size_of::<GpuPush>() as u32)?;
+        gpu.bind_bvh(&pipeline)?;
         pipeline.bind(BINDING_RAYS, &ray_buf)?;
         pipeline.bind(BINDING_HITS, &hit_buf)?;
         Ok(Self { ctx, gpu: Some((pipeline, ray_buf, hit_buf, gpu.push())) })

@@ -51,6 +51,7 @@ pub fn render(
         &features.spec_constants(),
     )?;
     bind_all(&pipeline, &gpu.bindings())?;
+    gpu.bind_bvh(&pipeline)?;
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);
     let batches = settings.spp.div_ceil(batch);

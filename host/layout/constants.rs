@@ -13,15 +13,13 @@ macro_rules! shared_constants {
 }
 
 shared_constants! {
-    // Descriptor set 0 bindings. Each is one storage buffer (or uniform buffer for FRAME).
-    // The BVH nodes and triangles are not bound: shaders read them through the device
-    // addresses in the push constants (shaders/include/bvh_bindings.glsl says why). Only the
-    // layout probe declares them as blocks, at these two numbers, so tests/layout.rs can read
-    // their structs' offsets and strides back from SPIR-V.
-    /// Flattened BVH nodes (`GpuNode[]`), layout probe only.
-    PROBE_BINDING_NODES = 0;
-    /// Triangles in leaf order (`GpuTriangle[]`), layout probe only.
-    PROBE_BINDING_TRIANGLES = 1;
+    // Descriptor set 0 bindings. Each is one storage buffer (or uniform buffer for FRAME),
+    // except the BVH arrays: RGBA32UI uniform texel buffers (shaders/include/bvh_bindings.glsl
+    // says why), which the layout probe declares as struct arrays to check their layout.
+    /// Flattened BVH nodes (`GpuNode[]`, 2 texels each).
+    BINDING_NODES = 0;
+    /// Triangles in leaf order (`GpuTriangle[]`, 3 texels each).
+    BINDING_TRIANGLES = 1;
     /// Per-triangle shading data by primitive id (`GpuShading[]`).
     BINDING_SHADING = 2;
     /// Materials (`GpuMaterial[]`).

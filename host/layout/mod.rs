@@ -239,12 +239,8 @@ pub struct GpuPush {
     pub any_hit: u32,
     /// Nodes in the BVH array (all orders of a multi-order layout).
     pub node_count: u32,
-    /// Device addresses of the BVH node and triangle arrays (low, high dword), read through
-    /// `GL_EXT_buffer_reference` (shaders/include/bvh_bindings.glsl says why).
-    pub nodes_address: [u32; 2],
-    pub triangles_address: [u32; 2],
 }
-const _: () = assert!(std::mem::size_of::<GpuPush>() == 48);
+const _: () = assert!(std::mem::size_of::<GpuPush>() == 32);
 
 /// A ray for batch queries: origin, tmin, direction, tmax (the `vkrt trace` file layout).
 #[repr(C)]

@@ -111,8 +111,6 @@ struct GpuPush {
     uint ray_count;
     uint any_hit;
     uint node_count;
-    uvec2 nodes_address;
-    uvec2 triangles_address;
 };
 
 struct GpuRay {
