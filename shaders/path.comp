@@ -5,6 +5,7 @@
 // push.sample_count samples to the running sums (all samples in accum, even-indexed ones in
 // accum_even), so a render is any number of short dispatches.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
 
 #include "scene_bindings.glsl"
 #include "path_bindings.glsl"

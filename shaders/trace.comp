@@ -2,6 +2,7 @@
 // Batch ray queries: one invocation per ray, closest or any hit, with traversal counters.
 // Used by the GPU agreement tests and by tools that compare BVH layouts.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
 #ifdef PACKET_TRAVERSAL
 // subgroupAny/subgroupAll for the packet walk (traverse_packet.glsl).
 #extension GL_KHR_shader_subgroup_vote : require
@@ -16,7 +17,6 @@ layout(local_size_x = WORKGROUP_SIZE_1D) in;
 
 layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
 layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer Hits { GpuHit hits[]; };
-layout(push_constant) uniform Push { GpuPush push; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

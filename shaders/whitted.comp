@@ -4,6 +4,7 @@
 // through dielectrics. The recursive ray tree is walked with a small explicit stack.
 // One invocation per pixel of a tile; each dispatch adds push.sample_count samples to accum.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
 
 #include "scene_bindings.glsl"
 #include "features.glsl"

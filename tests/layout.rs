@@ -81,7 +81,9 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
             cam_origin, tan_half_fov_y, cam_forward, aspect, cam_right, width, cam_up, height,
             ambient, max_depth, light_count, emitter_count, seed, scene_scale, sky_color, sky_texture
         }),
-        rust_fields!(GpuPush { tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, _pad0 }),
+        rust_fields!(GpuPush {
+            tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, node_count
+        }),
         rust_fields!(GpuRay { origin, tmin, direction, tmax }),
         rust_fields!(GpuHit { t, prim, u, v, nodes_visited, tris_tested, _pad0, _pad1 }),
         rust_fields!(GpuLightPick { pmf, alias, threshold, _pad0 }),

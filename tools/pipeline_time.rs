@@ -32,19 +32,28 @@ fn run() -> Result<()> {
         args.iter().map(String::as_str).collect()
     };
     // Every binding any tracing shader declares; unused ones cost nothing.
-    let bindings: Vec<(u32, BindingKind)> = (0..=BINDING_ACCUM_EVEN)
-        .map(|b| (b, if b == BINDING_FRAME || b == BINDING_PATH_PARAMS { BindingKind::Uniform } else { BindingKind::Storage }))
-        .collect();
+    let kind_of = |b: u32| match b {
+        BINDING_FRAME | BINDING_PATH_PARAMS => BindingKind::Uniform,
+        BINDING_NODES | BINDING_TRIANGLES => BindingKind::Texels,
+        _ => BindingKind::Storage,
+    };
+    let bindings: Vec<(u32, BindingKind)> = (0..=BINDING_UVS).map(|b| (b, kind_of(b))).collect();
     let ctx = Context::new(&ContextOptions::from_env())?;
     println!("device: {}\n", ctx.info.name);
     // Zeroed buffers: frame.width = 0 and ray_count = 0 make every invocation return at once.
     let buffers = bindings
         .iter()
         .map(|&(b, kind)| {
-            let usage = if kind == BindingKind::Uniform { vk::BufferUsageFlags::UNIFORM_BUFFER } else { vk::BufferUsageFlags::STORAGE_BUFFER };
+            let usage = match kind {
+                BindingKind::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
+                BindingKind::Texels => vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+                BindingKind::Storage => vk::BufferUsageFlags::STORAGE_BUFFER,
+            };
             let buf = Buffer::new(&ctx, "dummy", 256, usage, MemoryLocation::Device)?;
             buf.clear()?;
-            Ok((b, buf))
+            // Views before buffers in the tuple: dropped first.
+            let view = if kind == BindingKind::Texels { Some(buf.texel_view()?) } else { None };
+            Ok((b, view, buf))
         })
         .collect::<Result<Vec<_>>>()?;
     let push = [0u8; std::mem::size_of::<vkrt::layout::GpuPush>()];
@@ -61,8 +70,11 @@ fn run() -> Result<()> {
                 .ok_or_else(|| anyhow::anyhow!("no shader variant '{name}'"))?;
             let t = Instant::now();
             let pipeline = ComputePipeline::new(&ctx, name, spv, &bindings, std::mem::size_of::<vkrt::layout::GpuPush>() as u32)?;
-            for (b, buf) in &buffers {
-                pipeline.bind(*b, buf)?;
+            for (b, view, buf) in &buffers {
+                match view {
+                    Some(v) => pipeline.bind_texels(*b, v)?,
+                    None => pipeline.bind(*b, buf)?,
+                }
             }
             submit_and_wait(&ctx, "first dispatch", |cmd| pipeline.record_dispatch(cmd, &push, [1, 1, 1]))?;
             best[i] = best[i].min(t.elapsed().as_secs_f64());

@@ -77,6 +77,20 @@ impl<'a> Buffer<'a> {
         }
     }
 
+    /// A view of the whole buffer as 16-byte RGBA32UI texels, for a `utextureBuffer`; the
+    /// buffer needs UNIFORM_TEXEL_BUFFER usage.
+    pub fn texel_view(&self) -> Result<TexelView<'a>> {
+        let info = vk::BufferViewCreateInfo::default()
+            .buffer(self.buffer)
+            .format(vk::Format::R32G32B32A32_UINT)
+            .offset(0)
+            .range(self.size / 16 * 16);
+        // SAFETY: valid buffer made with texel usage (checked by the validation layers in tests).
+        let view = unsafe { self.ctx.device.create_buffer_view(&info, None) }
+            .with_context(|| format!("vkCreateBufferView '{}'", self.name))?;
+        Ok(TexelView { ctx: self.ctx, view })
+    }
+
     /// A device buffer holding `data`.
     pub fn with_data<T: bytemuck::Pod>(ctx: &'a Context, name: &str, data: &[T], usage: vk::BufferUsageFlags) -> Result<Self> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
@@ -139,6 +153,19 @@ fn copy(ctx: &Context, src: &Buffer, dst: &Buffer, len: u64) -> Result<()> {
     submit_and_wait(ctx, &format!("copy '{}' to '{}'", src.name, dst.name), |cmd| unsafe {
         ctx.device.cmd_copy_buffer(cmd, src.buffer, dst.buffer, &region);
     })
+}
+
+/// A texel view of a [`Buffer`], destroyed on drop (before the buffer).
+pub struct TexelView<'a> {
+    ctx: &'a Context,
+    pub view: vk::BufferView,
+}
+
+impl Drop for TexelView<'_> {
+    fn drop(&mut self) {
+        // SAFETY: no pending submission uses the view (vkrt waits for each).
+        unsafe { self.ctx.device.destroy_buffer_view(self.view, None) };
+    }
 }
 
 impl Drop for Buffer<'_> {

@@ -13,6 +13,8 @@ pub struct DeviceInfo {
     pub driver_info: String,
     pub driver_version: u32,
     pub max_storage_buffer_range: u32,
+    /// Most texels one texel-buffer view may hold (the BVH arrays are read as RGBA32UI texels).
+    pub max_texel_buffer_elements: u32,
     pub max_workgroup_size: [u32; 3],
     pub max_workgroup_invocations: u32,
     pub subgroup_size: u32,
@@ -60,6 +62,7 @@ impl DeviceInfo {
             driver_info: cstr_field(&driver.driver_info),
             driver_version: p.driver_version,
             max_storage_buffer_range: p.limits.max_storage_buffer_range,
+            max_texel_buffer_elements: p.limits.max_texel_buffer_elements,
             max_workgroup_size: p.limits.max_compute_work_group_size,
             max_workgroup_invocations: p.limits.max_compute_work_group_invocations,
             subgroup_size: subgroup.subgroup_size,
@@ -97,6 +100,7 @@ impl fmt::Display for DeviceInfo {
         writeln!(f, "[{}] {} ({}){}", self.index, self.name, self.type_name(), if self.usable { "" } else { " - not usable: needs Vulkan 1.2 and a compute queue" })?;
         writeln!(f, "    Vulkan {}.{}.{}, driver {} {}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v), self.driver_name, self.driver_info)?;
         writeln!(f, "    max storage buffer range: {} MiB", self.max_storage_buffer_range / (1024 * 1024))?;
+        writeln!(f, "    max texel buffer elements: {}", self.max_texel_buffer_elements)?;
         writeln!(f, "    max workgroup size: {:?}, max invocations: {}", self.max_workgroup_size, self.max_workgroup_invocations)?;
         writeln!(f, "    subgroup size: {}", self.subgroup_size)?;
         writeln!(f, "    max push constants: {} bytes", self.max_push_constants_size)?;

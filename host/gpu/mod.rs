@@ -6,6 +6,6 @@ pub mod commands;
 pub mod context;
 pub mod device_info;
 
-pub use buffer::{Buffer, MemoryLocation};
+pub use buffer::{Buffer, MemoryLocation, TexelView};
 pub use context::{Context, ContextOptions, Validation};
 pub use device_info::DeviceInfo;

@@ -39,8 +39,8 @@ pub fn scene_scale(scene: &Scene) -> f32 {
 
 /// The bindings every integrator shader uses.
 pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
-    (BINDING_NODES, BindingKind::Storage),
-    (BINDING_TRIANGLES, BindingKind::Storage),
+    (BINDING_NODES, BindingKind::Texels),
+    (BINDING_TRIANGLES, BindingKind::Texels),
     (BINDING_SHADING, BindingKind::Storage),
     (BINDING_MATERIALS, BindingKind::Storage),
     (BINDING_LIGHTS, BindingKind::Storage),

@@ -1,9 +1,10 @@
 //! A scene uploaded to the GPU: BVH arrays plus shading data, ready to bind.
 
 use crate::bvh::{self, BuildConfig, BuilderKind};
-use crate::gpu::{Buffer, Context};
+use crate::gpu::{Buffer, Context, TexelView};
 use crate::layout::flatten::{flatten_as, FlatBvh};
-use crate::layout::LayoutKind;
+use crate::layout::{GpuPush, LayoutKind};
+use crate::pipeline::ComputePipeline;
 use crate::layout::scene_buffers::SceneBuffers;
 use crate::layout::texture_atlas::{TextureAtlas, TEXEL_BUDGET_BYTES};
 use crate::scene::Scene;
@@ -45,6 +46,9 @@ impl PreparedScene {
 
 /// The scene's buffers on the device.
 pub struct GpuScene<'a> {
+    // Views first: they are dropped before the buffers they view.
+    pub node_texels: TexelView<'a>,
+    pub triangle_texels: TexelView<'a>,
     pub nodes: Buffer<'a>,
     pub triangles: Buffer<'a>,
     pub shading: Buffer<'a>,
@@ -57,17 +61,18 @@ pub struct GpuScene<'a> {
     pub light_count: u32,
     pub emitter_count: u32,
     pub triangle_count: u32,
+    /// Nodes in `nodes` (all orders of a multi-order layout).
+    pub node_count: u32,
     /// Which layout `nodes` holds: shaders must be the variant for it.
     pub layout: LayoutKind,
 }
 
 impl<'a> GpuScene<'a> {
-    /// The scene's buffers by binding number, for every integrator shader.
-    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 9] {
+    /// The scene's storage buffers by binding number, for every integrator shader; the BVH
+    /// texel buffers are bound by [`GpuScene::bind_bvh`].
+    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 7] {
         use crate::layout::constants::*;
         [
-            (BINDING_NODES, &self.nodes),
-            (BINDING_TRIANGLES, &self.triangles),
             (BINDING_SHADING, &self.shading),
             (BINDING_MATERIALS, &self.materials),
             (BINDING_LIGHTS, &self.lights),
@@ -76,6 +81,18 @@ impl<'a> GpuScene<'a> {
             (BINDING_TEXELS, &self.texels),
             (BINDING_UVS, &self.uvs),
         ]
+    }
+
+    /// The scene's part of the push constants; each dispatch fills in the rest.
+    pub fn push(&self) -> GpuPush {
+        GpuPush { node_count: self.node_count, ..bytemuck::Zeroable::zeroed() }
+    }
+
+    /// Binds the BVH node and triangle texel buffers (BINDING_NODES, BINDING_TRIANGLES).
+    pub fn bind_bvh(&self, pipeline: &ComputePipeline) -> Result<()> {
+        use crate::layout::constants::{BINDING_NODES, BINDING_TRIANGLES};
+        pipeline.bind_texels(BINDING_NODES, &self.node_texels)?;
+        pipeline.bind_texels(BINDING_TRIANGLES, &self.triangle_texels)
     }
 
     pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
@@ -92,8 +109,15 @@ impl<'a> GpuScene<'a> {
             Ok(())
         };
         let b = &prepared.buffers;
-        check("BVH nodes", prepared.flat.node_bytes().len())?;
-        check("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
+        let max_texels = ctx.info.max_texel_buffer_elements as usize;
+        let check_texels = |name: &str, bytes: usize| -> Result<()> {
+            if bytes / 16 > max_texels {
+                anyhow::bail!("the scene's {name} take {} texels, over this device's texel-buffer limit of {max_texels}", bytes / 16);
+            }
+            Ok(())
+        };
+        check_texels("BVH nodes", prepared.flat.node_bytes().len())?;
+        check_texels("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
         check("shading data", std::mem::size_of_val(b.shading.as_slice()))?;
         check("texels", std::mem::size_of_val(prepared.atlas.texels.as_slice()))?;
         check("texture coordinates", std::mem::size_of_val(b.uvs.as_slice()))?;
@@ -101,9 +125,14 @@ impl<'a> GpuScene<'a> {
         fn or_one<T: bytemuck::Pod>(v: &[T]) -> std::borrow::Cow<'_, [T]> {
             if v.is_empty() { vec![T::zeroed()].into() } else { v.into() }
         }
+        let texels = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        let nodes = Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), texels)?;
+        let triangles = Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, texels)?;
         Ok(Self {
-            nodes: Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), storage)?,
-            triangles: Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, storage)?,
+            node_texels: nodes.texel_view()?,
+            triangle_texels: triangles.texel_view()?,
+            nodes,
+            triangles,
             shading: Buffer::with_data(ctx, "shading", &b.shading, storage)?,
             materials: Buffer::with_data(ctx, "materials", &b.materials, storage)?,
             lights: Buffer::with_data(ctx, "lights", &b.lights, storage)?,
@@ -114,6 +143,7 @@ impl<'a> GpuScene<'a> {
             light_count: b.lights.len() as u32,
             emitter_count: b.emitters.len() as u32,
             triangle_count: prepared.flat.triangles.len() as u32,
+            node_count: prepared.flat.node_count() as u32,
             layout: prepared.flat.layout(),
         })
     }

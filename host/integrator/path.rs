@@ -200,6 +200,7 @@ pub fn render(
         &features.spec_constants(),
     )?;
     bind_all(&pipeline, &gpu.bindings())?;
+    gpu.bind_bvh(&pipeline)?;
     bind_all(
         &pipeline,
         &[
@@ -219,6 +220,7 @@ pub fn render(
     let mut last_batch_s = 0.0f64;
     let batch = img.samples_per_batch.max(1) as u64;
     let empty = gpu.triangle_count == 0;
+    let scene_push = gpu.push();
     loop {
         let elapsed = start.elapsed().as_secs_f64();
         let spp_done = stop.spp.is_some_and(|n| samples >= n);
@@ -237,7 +239,7 @@ pub fn render(
         }
         let t_batch = Instant::now();
         if !empty {
-            dispatch_samples(ctx, &pipeline, "path tile", img, samples as u32, count as u32, 0, &mut || stats.submissions += 1)?;
+            dispatch_samples(ctx, &scene_push, &pipeline, "path tile", img, samples as u32, count as u32, 0, &mut || stats.submissions += 1)?;
         }
         last_batch_s = t_batch.elapsed().as_secs_f64();
         samples += count;

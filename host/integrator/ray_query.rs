@@ -20,7 +20,7 @@ pub const RAYS_PER_BATCH: usize = 1 << 16;
 pub struct RayQuery<'a> {
     ctx: &'a Context,
     /// None for a scene without triangles: every ray misses and nothing runs.
-    gpu: Option<(ComputePipeline<'a>, Buffer<'a>, Buffer<'a>)>,
+    gpu: Option<(ComputePipeline<'a>, Buffer<'a>, Buffer<'a>, GpuPush)>,
 }
 
 impl<'a> RayQuery<'a> {
@@ -37,28 +37,27 @@ impl<'a> RayQuery<'a> {
         let ray_buf = Buffer::new(ctx, "rays", (RAYS_PER_BATCH * std::mem::size_of::<GpuRay>()) as u64, storage, MemoryLocation::Device)?;
         let hit_buf = Buffer::new(ctx, "hits", (RAYS_PER_BATCH * std::mem::size_of::<GpuHit>()) as u64, storage, MemoryLocation::Device)?;
         let bindings = [
-            (BINDING_NODES, BindingKind::Storage),
-            (BINDING_TRIANGLES, BindingKind::Storage),
+            (BINDING_NODES, BindingKind::Texels),
+            (BINDING_TRIANGLES, BindingKind::Texels),
             (BINDING_RAYS, BindingKind::Storage),
             (BINDING_HITS, BindingKind::Storage),
         ];
         let pipeline = ComputePipeline::new(ctx, "trace", spv, &bindings, std::mem::size_of::<GpuPush>() as u32)?;
-        pipeline.bind(BINDING_NODES, &gpu.nodes)?;
-        pipeline.bind(BINDING_TRIANGLES, &gpu.triangles)?;
+        gpu.bind_bvh(&pipeline)?;
         pipeline.bind(BINDING_RAYS, &ray_buf)?;
         pipeline.bind(BINDING_HITS, &hit_buf)?;
-        Ok(Self { ctx, gpu: Some((pipeline, ray_buf, hit_buf)) })
+        Ok(Self { ctx, gpu: Some((pipeline, ray_buf, hit_buf, gpu.push())) })
     }
 
     /// Traces `rays`, [`RAYS_PER_BATCH`] per submission; one hit per ray, in order.
     pub fn trace(&self, rays: &[GpuRay], any_hit: bool) -> Result<Vec<GpuHit>> {
-        let Some((pipeline, ray_buf, hit_buf)) = &self.gpu else {
+        let Some((pipeline, ray_buf, hit_buf, scene)) = &self.gpu else {
             return Ok(vec![crate::layout::cpu_trace::miss(); rays.len()]);
         };
         let mut hits = Vec::with_capacity(rays.len());
         for chunk in rays.chunks(RAYS_PER_BATCH) {
             ray_buf.write(bytemuck::cast_slice(chunk))?;
-            let push = GpuPush { ray_count: chunk.len() as u32, any_hit: any_hit as u32, ..bytemuck::Zeroable::zeroed() };
+            let push = GpuPush { ray_count: chunk.len() as u32, any_hit: any_hit as u32, ..*scene };
             let groups = [(chunk.len() as u32).div_ceil(WORKGROUP_SIZE_1D), 1, 1];
             submit_and_wait(self.ctx, "trace rays", |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups))?;
             hits.extend(hit_buf.read_as::<GpuHit>(chunk.len())?);

@@ -26,8 +26,11 @@ pub fn tile_count(settings: &RenderSettings) -> u64 {
 
 /// Renders samples `sample_base .. sample_base + sample_count` of every pixel, one submission
 /// per tile; `on_tile()` runs after each. `total_spp` goes to the shader (for stratification).
+/// `scene` is the scene's part of the push constants ([`GpuScene::push`]).
+#[allow(clippy::too_many_arguments)]
 pub fn dispatch_samples(
     ctx: &Context,
+    scene: &GpuPush,
     pipeline: &ComputePipeline,
     what: &str,
     settings: &RenderSettings,
@@ -45,9 +48,7 @@ pub fn dispatch_samples(
                 sample_base,
                 sample_count,
                 total_spp,
-                ray_count: 0,
-                any_hit: 0,
-                _pad0: 0,
+                ..*scene
             };
             let w = tile.min(settings.width - push.tile_x);
             let h = tile.min(settings.height - push.tile_y);

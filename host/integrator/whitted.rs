@@ -51,6 +51,7 @@ pub fn render(
         &features.spec_constants(),
     )?;
     bind_all(&pipeline, &gpu.bindings())?;
+    gpu.bind_bvh(&pipeline)?;
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);
     let batches = settings.spp.div_ceil(batch);
@@ -60,7 +61,7 @@ pub fn render(
     for b in 0..batches {
         let sample_base = b * batch;
         let sample_count = batch.min(settings.spp - sample_base);
-        dispatch_samples(ctx, &pipeline, "whitted tile", settings, sample_base, sample_count, settings.spp, &mut || {
+        dispatch_samples(ctx, &gpu.push(), &pipeline, "whitted tile", settings, sample_base, sample_count, settings.spp, &mut || {
             stats.submissions += 1;
             done += 1;
             progress(done, total);

@@ -13,10 +13,12 @@ macro_rules! shared_constants {
 }
 
 shared_constants! {
-    // Descriptor set 0 bindings. Each is one storage buffer (or uniform buffer for FRAME).
-    /// Flattened BVH nodes (`GpuNode[]`).
+    // Descriptor set 0 bindings. Each is one storage buffer (or uniform buffer for FRAME),
+    // except the BVH arrays: RGBA32UI uniform texel buffers (shaders/include/bvh_bindings.glsl
+    // says why), which the layout probe declares as struct arrays to check their layout.
+    /// Flattened BVH nodes (`GpuNode[]`, 2 texels each).
     BINDING_NODES = 0;
-    /// Triangles in leaf order (`GpuTriangle[]`).
+    /// Triangles in leaf order (`GpuTriangle[]`, 3 texels each).
     BINDING_TRIANGLES = 1;
     /// Per-triangle shading data by primitive id (`GpuShading[]`).
     BINDING_SHADING = 2;

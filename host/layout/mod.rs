@@ -237,7 +237,8 @@ pub struct GpuPush {
     pub ray_count: u32,
     /// 1: any-hit (shadow) queries; 0: closest hit.
     pub any_hit: u32,
-    pub _pad0: u32,
+    /// Nodes in the BVH array (all orders of a multi-order layout).
+    pub node_count: u32,
 }
 const _: () = assert!(std::mem::size_of::<GpuPush>() == 32);
 

@@ -1,6 +1,6 @@
 //! A compute pipeline with one descriptor set of buffers and a push-constant block.
 
-use crate::gpu::{Buffer, Context};
+use crate::gpu::{Buffer, Context, TexelView};
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 
@@ -9,6 +9,8 @@ use ash::vk;
 pub enum BindingKind {
     Storage,
     Uniform,
+    /// A uniform texel buffer (`utextureBuffer`), bound with [`ComputePipeline::bind_texels`].
+    Texels,
 }
 
 impl BindingKind {
@@ -16,6 +18,7 @@ impl BindingKind {
         match self {
             BindingKind::Storage => vk::DescriptorType::STORAGE_BUFFER,
             BindingKind::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
+            BindingKind::Texels => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
         }
     }
 }
@@ -109,14 +112,12 @@ impl<'a> ComputePipeline<'a> {
             p.pipeline = dev
                 .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
                 .map_err(|(_, e)| anyhow!("vkCreateComputePipelines '{name}': {e}"))?[0];
-            let storage = bindings.iter().filter(|b| b.1 == BindingKind::Storage).count() as u32;
-            let uniform = bindings.len() as u32 - storage;
             let mut sizes = Vec::new();
-            if storage > 0 {
-                sizes.push(vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: storage });
-            }
-            if uniform > 0 {
-                sizes.push(vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: uniform });
+            for kind in [BindingKind::Storage, BindingKind::Uniform, BindingKind::Texels] {
+                let count = bindings.iter().filter(|b| b.1 == kind).count() as u32;
+                if count > 0 {
+                    sizes.push(vk::DescriptorPoolSize { ty: kind.vk(), descriptor_count: count });
+                }
             }
             p.pool = dev
                 .create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
@@ -144,6 +145,22 @@ impl<'a> ComputePipeline<'a> {
             .descriptor_type(kind.vk())
             .buffer_info(&info)];
         // SAFETY: the set is not in use by a pending submission.
+        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        Ok(())
+    }
+
+    /// Points texel-buffer binding `binding` at `view`. Same rule as [`ComputePipeline::bind`].
+    pub fn bind_texels(&self, binding: u32, view: &TexelView) -> Result<()> {
+        if !self.bindings.contains(&(binding, BindingKind::Texels)) {
+            return Err(anyhow!("pipeline '{}' has no texel-buffer binding {binding}", self.name));
+        }
+        let views = [view.view];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+            .texel_buffer_view(&views)];
+        // SAFETY: the set is not in use by a pending submission; the view outlives its use.
         unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
         Ok(())
     }

@@ -1,15 +1,55 @@
-// The BVH buffers every tracing shader reads. Binding numbers come from constants.glsl.
+// The BVH arrays every tracing shader reads, and the push constants.
+//
+// Nodes and triangles are bound as RGBA32UI uniform texel buffers and read with texelFetch,
+// not as storage buffers, because on lavapipe that is what the loads cost (BENCHMARKS.md,
+// "Loads on lavapipe"):
+// - Mesa 25's gallivm (lp_bld_nir_soa.c, emit_load_mem) loads a storage buffer at a per-lane
+//   index one lane and one dword at a time, each behind a branch on the lane mask and another
+//   on the bounds check: 64 branchy scalar loads for one 32-byte node across 8 lanes.
+// - A texel fetch of a 4 x 32-bit format loads each lane's 16 bytes with one vector load and
+//   transposes them (lp_bld_format_soa.c): 2 loads per lane per node.
+// - Loads through buffer device addresses become hardware gathers, one per component, which
+//   the profile showed as the hottest instructions of both trace and path shaders.
+// On GPUs texel fetches go through the texture cache, a fine path for read-only data.
+// The decode assumes the std430 layouts of GpuNode / GpuParentNode (32 B: bmin, link, bmax,
+// leaf) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad); tests/layout.rs pins both, and the
+// GPU agreement tests (tests/traversal.rs) would see any misread field.
+// Needs GL_EXT_samplerless_texture_functions (enabled by each .comp).
 #ifndef VKRT_BVH_BINDINGS_GLSL
 #define VKRT_BVH_BINDINGS_GLSL
 #include "constants.glsl"
 #include "layout.glsl"
 
-// The node type depends on the layout (see traverse.glsl); both are 32 bytes.
+layout(push_constant) uniform Push { GpuPush push; };
+
+// The node type depends on the layout (see traverse.glsl); both are 32 bytes, 2 texels.
 #if defined(LAYOUT_PARENT_LINK)
-layout(std430, set = 0, binding = BINDING_NODES) readonly buffer Nodes { GpuParentNode nodes[]; };
+#define BVH_NODE GpuParentNode
 #else
-layout(std430, set = 0, binding = BINDING_NODES) readonly buffer Nodes { GpuNode nodes[]; };
+#define BVH_NODE GpuNode
 #endif
-layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
+
+// The layout probe declares these bindings as struct arrays instead, to check their layout.
+#ifndef LAYOUT_PROBE
+// Texture (not sampler) buffers: a combined sampler of a buffer is deprecated in SPIR-V and
+// the validation layers warn about it.
+layout(set = 0, binding = BINDING_NODES) uniform utextureBuffer node_texels;
+layout(set = 0, binding = BINDING_TRIANGLES) uniform utextureBuffer triangle_texels;
+
+uint node_count() { return push.node_count; }
+
+BVH_NODE load_node(uint i) {
+    uvec4 a = texelFetch(node_texels, int(2u * i));
+    uvec4 b = texelFetch(node_texels, int(2u * i + 1u));
+    return BVH_NODE(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
+}
+
+GpuTriangle load_triangle(uint i) {
+    uvec4 a = texelFetch(triangle_texels, int(3u * i));
+    uvec4 b = texelFetch(triangle_texels, int(3u * i + 1u));
+    uvec4 c = texelFetch(triangle_texels, int(3u * i + 2u));
+    return GpuTriangle(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), 0u, uintBitsToFloat(c.xyz), 0u);
+}
+#endif
 
 #endif

@@ -110,7 +110,7 @@ struct GpuPush {
     uint total_spp;
     uint ray_count;
     uint any_hit;
-    uint _pad0;
+    uint node_count;
 };
 
 struct GpuRay {

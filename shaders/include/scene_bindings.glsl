@@ -11,6 +11,5 @@ layout(std430, set = 0, binding = BINDING_TEXTURES) readonly buffer Textures { G
 layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer Texels { uint texels[]; };
 layout(std430, set = 0, binding = BINDING_UVS) readonly buffer Uvs { GpuUv uvs[]; };
 layout(std140, set = 0, binding = BINDING_FRAME) uniform Frame { GpuFrame frame; };
-layout(push_constant) uniform Push { GpuPush push; };
 
 #endif

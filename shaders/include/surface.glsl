@@ -15,7 +15,7 @@ struct Surface {
 };
 
 Surface surface_at(Hit h, vec3 dir) {
-    GpuTriangle tri = triangles[h.slot];
+    GpuTriangle tri = load_triangle(h.slot);
     GpuShading sh = shading[h.prim];
     Surface s;
     float w = 1.0 - h.u - h.v;

@@ -39,7 +39,7 @@ bool test_leaf(uint leaf, RayPre r, inout float tmax, inout Hit hit, bool any_hi
     uint count = leaf & ((1u << LEAF_COUNT_BITS) - 1u);
     bool found = false;
     for (uint i = first; i < first + count; i++) {
-        GpuTriangle tri = triangles[i];
+        GpuTriangle tri = load_triangle(i);
         hit.tris_tested++;
         float t, u, v;
         if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {

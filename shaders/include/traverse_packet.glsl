@@ -28,10 +28,10 @@ Hit traverse_packet_from(uint start, RayPre r, float tmax, bool any_hit) {
     Hit hit = hit_none();
     const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
     // `start` comes from a uniform source in every caller (0 or a push constant).
-    uint index = start < uint(nodes.length()) ? start : NODE_NONE;
+    uint index = start < node_count() ? start : NODE_NONE;
     bool done = false;
     while (index != NODE_NONE) {
-        GpuNode node = nodes[index];
+        GpuNode node = load_node(index);
         hit.nodes_visited++;
         float t_enter;
         bool overlap = !done && intersect_box(r, node.bmin, node.bmax, tmax, t_enter);

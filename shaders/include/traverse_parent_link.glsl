@@ -18,9 +18,9 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin);
     Hit hit = hit_none();
     const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
-    uint count = uint(nodes.length());
+    uint count = node_count();
     if (count == 0u) return hit;
-    GpuParentNode root = nodes[0];
+    GpuParentNode root = load_node(0);
     hit.nodes_visited++;
     float t_enter;
     if (!intersect_box(r, root.bmin, root.bmax, tmax, t_enter)) return hit;
@@ -35,7 +35,7 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     while (steps > 0u) {
         steps--;
         if (current >= count) break;
-        GpuParentNode node = nodes[current];
+        GpuParentNode node = load_node(current);
         uint parent = node.parent >> 4;
         if (state == FROM_CHILD) {
             if (current == 0u) break;

@@ -9,9 +9,9 @@
 Hit traverse_threaded_from(uint start, RayPre r, float tmax, bool any_hit) {
     Hit hit = hit_none();
     const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
-    uint index = start < uint(nodes.length()) ? start : NODE_NONE;
+    uint index = start < node_count() ? start : NODE_NONE;
     while (index != NODE_NONE) {
-        GpuNode node = nodes[index];
+        GpuNode node = load_node(index);
         hit.nodes_visited++;
         float t_enter;
         if (!intersect_box(r, node.bmin, node.bmax, tmax, t_enter)) {

@@ -6,6 +6,7 @@
 //   [pdf from bsdf_eval(wi), mean(weight), 1 if delta, 1 if the sample succeeded]
 //   [u, bsdf_eval's pdf at u], u a uniform direction on the sphere.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
 
 #include "constants.glsl"
 #include "layout.glsl"

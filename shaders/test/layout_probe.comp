@@ -2,11 +2,18 @@
 // Declares every GPU struct and binding so tests/layout.rs can read their offsets, sizes,
 // strides and binding numbers from one SPIR-V module. Never dispatched.
 #extension GL_GOOGLE_include_directive : require
+// The BVH bindings are texel buffers in the real shaders; here they are struct arrays.
+#define LAYOUT_PROBE
 
 #include "scene_bindings.glsl"
 #include "path_bindings.glsl"
 
 layout(local_size_x = 1) in;
+
+// The BVH arrays are texel buffers in the shaders (bvh_bindings.glsl); declared as blocks here
+// only so their structs' offsets and strides can be read back.
+layout(std430, set = 0, binding = BINDING_NODES) readonly buffer Nodes { BVH_NODE nodes[]; };
+layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
 
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
