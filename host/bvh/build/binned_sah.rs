@@ -26,7 +26,7 @@
 
 use std::borrow::Cow;
 
-use glam::{UVec3, Vec3, Vec3A};
+use glam::{Vec3, Vec3A};
 
 use crate::bvh::{Aabb, BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
 
@@ -113,17 +113,27 @@ impl Bin {
     }
 }
 
-/// Maps a centroid to its bin on each axis: floor((c - min) * scale), clamped to the last bin
-/// (Wald 2007, eq. 1). The scale is precomputed per node so binning is a subtract and a multiply
-/// for all three axes at once.
+/// Maps a centroid to its bin on each axis: about floor((c - min) * scale), clamped to the bins
+/// (Wald 2007, eq. 1). The scale is precomputed per node so binning is a handful of SIMD ops for
+/// all three axes at once.
 struct Binning {
     min: Vec3A,
     scale: Vec3A,
-    last: UVec3,
+    /// 0.5 and bins - 0.5 on every axis: the clamp range before rounding (see [`Binning::bins`]).
+    lo: Vec3A,
+    hi: Vec3A,
+    last: usize,
     /// False where the centroids do not spread along an axis: no plane separates them there.
     /// Such an axis gets scale 0, so everything lands in bin 0 and the sweep skips it.
     usable: [bool; 3],
 }
+
+/// 2^23 - 0.5: adding it to a float in [0.5, 2^22] leaves round(x - 0.5) in the low mantissa
+/// bits (floats from 2^23 to 2^24 are the integers), the usual float-to-int trick without a
+/// (saturating, scalar) `as` cast per lane.
+const ROUND_MAGIC: f32 = 8_388_607.5;
+/// The bit pattern of 2^23, subtracted to leave the integer.
+const ROUND_MAGIC_BITS: u32 = 0x4B00_0000;
 
 impl Binning {
     fn new(centroid_bounds: &Box3, bins: usize) -> Self {
@@ -134,18 +144,36 @@ impl Binning {
         Self {
             min: centroid_bounds.min,
             scale,
-            last: UVec3::splat(bins as u32 - 1),
+            lo: Vec3A::splat(0.5),
+            hi: Vec3A::splat(bins as f32 - 0.5),
+            last: bins - 1,
             usable,
         }
     }
     /// Bin index on each axis. The binning pass and the partition both call this, so they agree
-    /// exactly on every primitive's side. `as` casts saturate (negatives and NaN become 0), and
-    /// the `min` folds the largest centroid, which lands exactly on `bins`, into the last bin.
+    /// exactly on every primitive's side. t = (c - min) * scale lies in [0, bins]; clamped to
+    /// [0.5, bins - 0.5] and rounded after subtracting 0.5 it becomes a bin in 0..bins (floor(t)
+    /// except that exact integers may round down, which only has to be monotone and the same
+    /// for both callers). `max` and `min` map NaN to the clamp bounds; the final `min` keeps any
+    /// index in range regardless.
     #[inline]
-    fn bins(&self, c: Vec3) -> UVec3 {
-        ((Vec3A::from(c) - self.min) * self.scale)
-            .as_uvec3()
-            .min(self.last)
+    fn bins(&self, c: Vec3A) -> [usize; 3] {
+        // A change here must be mirrored in `bin`.
+        let t = ((c - self.min) * self.scale).max(self.lo).min(self.hi) + Vec3A::splat(ROUND_MAGIC);
+        t.to_array()
+            .map(|x| (x.to_bits().wrapping_sub(ROUND_MAGIC_BITS) as usize).min(self.last))
+    }
+    /// `bins(c)[axis]` from the centroid's coordinate on that axis alone, with the same float
+    /// operations in scalar form, so the two agree bit for bit (scalar `f32::max`/`min` return
+    /// the non-NaN operand, as SSE's `maxps`/`minps` do when only the first operand is NaN; a
+    /// unit test checks the agreement).
+    #[inline]
+    fn bin(&self, c: f32, axis: usize) -> usize {
+        let t = ((c - self.min[axis]) * self.scale[axis])
+            .max(self.lo[axis])
+            .min(self.hi[axis])
+            + ROUND_MAGIC;
+        (t.to_bits().wrapping_sub(ROUND_MAGIC_BITS) as usize).min(self.last)
     }
 }
 
@@ -171,6 +199,50 @@ struct Binner {
     suffix: Vec<Bin>,
 }
 
+/// Nodes of at most this many primitives skip the bins: sorting them on each axis and sweeping
+/// every split costs less than clearing and sweeping 3 x `sah_bins` bins, and finds the best
+/// object split instead of an approximation. Most nodes of a tree are this small.
+const SMALL_NODE: usize = 16;
+
+/// Nodes of at most this many primitives try every partition into two non-empty sets (at most
+/// 7 for 4 primitives), cheaper than sorting on three axes and never worse.
+const TINY_NODE: usize = 4;
+
+/// How a node will be split, before it is known whether a leaf is cheaper.
+enum Plan {
+    /// Binned: partition on the split's axis and bin.
+    Binned(Binning, Split),
+    /// Tiny node: primitive `i` goes left if bit `i` of `mask` is set.
+    Subset { mask: u32, weighted_area: f32 },
+    /// Small node: sort on `axis` and split after the first `mid` primitives.
+    Sorted {
+        axis: usize,
+        mid: usize,
+        weighted_area: f32,
+    },
+    /// No plane separates the centroids: split by index in half.
+    Halve,
+}
+
+/// A node's two halves: `refs[..mid]` and `refs[mid..]` with their boxes and centroid bounds.
+struct Children {
+    mid: usize,
+    left: Box3,
+    left_centroids: Box3,
+    right: Box3,
+    right_centroids: Box3,
+}
+
+/// Per-build settings and the scratch reused across nodes, so the build allocates only its
+/// output.
+struct Builder {
+    leaf_size: usize,
+    traversal_cost: f32,
+    intersection_cost: f32,
+    binner: Binner,
+    sorter: SmallSweep,
+}
+
 /// Build a BVH with the binned SAH. `centroids[i]` is primitive `i`'s split position; if the slice
 /// does not match `boxes` in length, box centres are used instead (a builder must not panic on
 /// its input).
@@ -182,31 +254,11 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     if n == 0 {
         return Bvh::default();
     }
-    let centroids = matched_centroids(boxes, centroids, n);
-    // `n` fits in u32 (clamped above), so every index below does too.
-    let mut refs: Vec<PrimRef> = boxes
-        .iter()
-        .zip(centroids.iter())
-        .zip(0..n as u32)
-        .map(|((b, &centroid), id)| PrimRef {
-            bounds: Box3 {
-                min: b.min.into(),
-                max: b.max.into(),
-            },
-            centroid,
-            id,
-        })
-        .collect();
-    let leaf_size = config.max_leaf_size.clamp(1, MAX_LEAF_SIZE) as usize;
-    let bins = config.sah_bins.clamp(2, MAX_BINS) as usize;
-    let mut binner = Binner {
-        bins,
-        grid: vec![Bin::EMPTY; 3 * bins],
-        suffix: vec![Bin::EMPTY; bins],
-    };
+    let mut refs = prim_refs(boxes, &matched_centroids(boxes, centroids, n));
+    let mut builder = Builder::new(config);
 
     let (root_bounds, root_centroids) = range_bounds(&refs);
-    let mut nodes = Vec::with_capacity(2 * n.div_ceil(leaf_size));
+    let mut nodes = Vec::with_capacity(2 * n.div_ceil(builder.leaf_size));
     nodes.push(Node {
         bounds: root_bounds.aabb(),
         kind: NodeKind::Leaf { first: 0, count: 0 },
@@ -223,68 +275,36 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     }];
     while let Some(task) = stack.pop() {
         let bounds = nodes[task.node as usize].bounds;
-        let count = task.end - task.begin;
         let range = &mut refs[task.begin..task.end];
-        let binning = Binning::new(&task.centroid_bounds, bins);
-        let split = if count > 1 {
-            binner.best_split(range, &binning)
-        } else {
-            None
-        };
-
-        // Costs are compared multiplied through by A_parent, so a zero-area node (all boxes on a
-        // line or a point) needs no division: C_leaf = N * C_isect against C_trav +
-        // (A_L N_L + A_R N_R) / A_parent * C_isect.
-        let area = bounds.area();
-        let leaf_cost = count as f32 * config.intersection_cost * area;
-        let make_leaf = count <= leaf_size
-            && split.as_ref().map_or(true, |s| {
-                leaf_cost
-                    <= config.traversal_cost * area + s.weighted_area * config.intersection_cost
-            });
-
-        let children = if make_leaf {
-            None
-        } else if let Some(s) = split {
-            let (mid, lc, rc) = partition(range, &binning, s.axis, s.bin);
-            Some((mid, s.left, lc, s.right, rc))
-        } else {
-            // Centroids coincide on every axis (or no plane separated them) and the node is too
-            // big for a leaf: split by index in half, which keeps the depth logarithmic.
-            let mid = count / 2;
-            let (lb, lc) = range_bounds(&range[..mid]);
-            let (rb, rc) = range_bounds(&range[mid..]);
-            Some((mid, lb, lc, rb, rc))
-        };
-
-        let kind = match children {
+        let kind = match builder.split(range, &task.centroid_bounds, bounds.area()) {
             None => NodeKind::Leaf {
+                // `n` fits in u32 (clamped above), so every index does too.
                 first: task.begin as u32,
-                count: count as u32,
+                count: range.len() as u32,
             },
-            Some((mid, left_bounds, left_centroids, right_bounds, right_centroids)) => {
+            Some(c) => {
                 let left = nodes.len() as u32;
                 let placeholder = NodeKind::Leaf { first: 0, count: 0 };
                 nodes.push(Node {
-                    bounds: left_bounds.aabb(),
+                    bounds: c.left.aabb(),
                     kind: placeholder,
                 });
                 nodes.push(Node {
-                    bounds: right_bounds.aabb(),
+                    bounds: c.right.aabb(),
                     kind: placeholder,
                 });
-                let mid = task.begin + mid;
+                let mid = task.begin + c.mid;
                 stack.push(Task {
                     node: left + 1,
                     begin: mid,
                     end: task.end,
-                    centroid_bounds: right_centroids,
+                    centroid_bounds: c.right_centroids,
                 });
                 stack.push(Task {
                     node: left,
                     begin: task.begin,
                     end: mid,
-                    centroid_bounds: left_centroids,
+                    centroid_bounds: c.left_centroids,
                 });
                 NodeKind::Interior {
                     left,
@@ -300,21 +320,280 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     }
 }
 
+/// One record per primitive; ids are below 2^31 (the caller clamps `n`).
+fn prim_refs(boxes: &[Aabb], centroids: &[Vec3]) -> Vec<PrimRef> {
+    boxes
+        .iter()
+        .zip(centroids)
+        .zip(0u32..)
+        .map(|((b, &centroid), id)| PrimRef {
+            bounds: Box3 {
+                min: b.min.into(),
+                max: b.max.into(),
+            },
+            centroid,
+            id,
+        })
+        .collect()
+}
+
+impl Builder {
+    fn new(config: &BuildConfig) -> Self {
+        let bins = config.sah_bins.clamp(2, MAX_BINS) as usize;
+        Self {
+            leaf_size: config.max_leaf_size.clamp(1, MAX_LEAF_SIZE) as usize,
+            traversal_cost: config.traversal_cost,
+            intersection_cost: config.intersection_cost,
+            binner: Binner {
+                bins,
+                grid: vec![Bin::EMPTY; 6 * bins],
+                suffix: vec![Bin::EMPTY; bins],
+            },
+            sorter: SmallSweep {
+                order: [[0; SMALL_NODE]; 3],
+                right_area: [0.0; SMALL_NODE],
+                scratch: Vec::with_capacity(SMALL_NODE),
+            },
+        }
+    }
+
+    /// Split `refs` (reordering them) if the SAH says so or the node is too big for a leaf;
+    /// `None` for a leaf.
+    fn split(&mut self, refs: &mut [PrimRef], centroid_bounds: &Box3, area: f32) -> Option<Children> {
+        let count = refs.len();
+        if count <= 1 && count <= self.leaf_size {
+            return None;
+        }
+        let plan = self.plan(refs, centroid_bounds);
+        if count <= self.leaf_size && self.leaf_is_cheaper(count, area, &plan) {
+            return None;
+        }
+        Some(match plan {
+            Plan::Binned(binning, s) => {
+                let (mid, left_centroids, right_centroids) = partition(refs, &binning, s.axis, s.bin);
+                Children {
+                    mid,
+                    left: s.left,
+                    left_centroids,
+                    right: s.right,
+                    right_centroids,
+                }
+            }
+            Plan::Subset { mask, .. } => {
+                let mid = self.sorter.apply_subset(refs, mask);
+                halves(refs, mid)
+            }
+            Plan::Sorted { axis, mid, .. } => {
+                self.sorter.apply(refs, axis);
+                halves(refs, mid)
+            }
+            // Centroids coincide on every axis (or no plane separated them) and the node is too
+            // big for a leaf: split by index in half, which keeps the depth logarithmic.
+            Plan::Halve => halves(refs, count / 2),
+        })
+    }
+
+    fn plan(&mut self, refs: &[PrimRef], centroid_bounds: &Box3) -> Plan {
+        if refs.len() <= TINY_NODE {
+            return match best_subset(refs) {
+                Some((mask, weighted_area)) => Plan::Subset {
+                    mask,
+                    weighted_area,
+                },
+                None => Plan::Halve,
+            };
+        }
+        if refs.len() <= SMALL_NODE {
+            return match self.sorter.best_split(refs) {
+                Some((axis, mid, weighted_area)) => Plan::Sorted {
+                    axis,
+                    mid,
+                    weighted_area,
+                },
+                None => Plan::Halve,
+            };
+        }
+        let binning = Binning::new(centroid_bounds, self.binner.bins);
+        match self.binner.best_split(refs, &binning) {
+            Some(s) => Plan::Binned(binning, s),
+            None => Plan::Halve,
+        }
+    }
+
+    /// Costs are compared multiplied through by A_parent, so a zero-area node (all boxes on a
+    /// line or a point) needs no division: C_leaf = N * C_isect against C_trav +
+    /// (A_L N_L + A_R N_R) / A_parent * C_isect. With no plane at all, a leaf it is.
+    fn leaf_is_cheaper(&self, count: usize, area: f32, plan: &Plan) -> bool {
+        let weighted_area = match plan {
+            Plan::Binned(_, s) => s.weighted_area,
+            Plan::Sorted { weighted_area, .. } | Plan::Subset { weighted_area, .. } => {
+                *weighted_area
+            }
+            Plan::Halve => return true,
+        };
+        count as f32 * self.intersection_cost * area
+            <= self.traversal_cost * area + weighted_area * self.intersection_cost
+    }
+}
+
+/// `refs[..mid]` and `refs[mid..]` with their bounds, for splits that did not bin.
+fn halves(refs: &[PrimRef], mid: usize) -> Children {
+    let (left, left_centroids) = range_bounds(&refs[..mid]);
+    let (right, right_centroids) = range_bounds(&refs[mid..]);
+    Children {
+        mid,
+        left,
+        left_centroids,
+        right,
+        right_centroids,
+    }
+}
+
+/// The cheapest split of at most [`TINY_NODE`] primitives into two non-empty sets, by trying
+/// them all: (mask of the left set, A_L N_L + A_R N_R). The last primitive always goes right, so
+/// each partition is tried once; ties go to the most balanced, then the first mask. `None` for
+/// fewer than 2 refs.
+fn best_subset(refs: &[PrimRef]) -> Option<(u32, f32)> {
+    let n = refs.len().min(TINY_NODE);
+    let mut best: Option<(f32, u32, u32)> = None;
+    for mask in 1..(1u32 << n.saturating_sub(1)) {
+        let (mut left, mut right) = (Box3::EMPTY, Box3::EMPTY);
+        for (i, r) in refs[..n].iter().enumerate() {
+            if mask >> i & 1 == 1 {
+                left = left.union(r.bounds);
+            } else {
+                right = right.union(r.bounds);
+            }
+        }
+        let n_left = mask.count_ones();
+        let n_right = n as u32 - n_left;
+        let weighted_area = left.area() * n_left as f32 + right.area() * n_right as f32;
+        let imbalance = n_left.abs_diff(n_right);
+        if best.map_or(true, |(w, imb, _)| {
+            weighted_area < w || (weighted_area == w && imbalance < imb)
+        }) {
+            best = Some((weighted_area, imbalance, mask));
+        }
+    }
+    best.map(|(w, _, mask)| (mask, w))
+}
+
+/// The exact SAH sweep for nodes of at most [`SMALL_NODE`] primitives: sort on each axis, then
+/// every split between neighbours in that order is a candidate. Fixed-size scratch, no
+/// allocation per node.
+struct SmallSweep {
+    /// Per axis, the node's primitives (indices into the node's range) by centroid.
+    order: [[u8; SMALL_NODE]; 3],
+    /// `right_area[i]`: area of the box around primitives `i..` in the current axis's order.
+    right_area: [f32; SMALL_NODE],
+    scratch: Vec<PrimRef>,
+}
+
+/// Fill `order` with `0..order.len()` sorted by centroid on `axis`: an insertion sort, the
+/// fastest for a few elements. Stable (equal keys keep their order, so the tree is
+/// deterministic); a NaN key compares false and just stays put.
+fn sort_by_centroid(order: &mut [u8], refs: &[PrimRef], axis: usize) {
+    let mut keys = [(0.0f32, 0u8); SMALL_NODE];
+    let n = order.len().min(SMALL_NODE);
+    for (i, r) in refs[..n].iter().enumerate() {
+        let x = (r.centroid[axis], i as u8);
+        let mut j = i;
+        while j > 0 && x.0 < keys[j - 1].0 {
+            keys[j] = keys[j - 1];
+            j -= 1;
+        }
+        keys[j] = x;
+    }
+    for (o, k) in order.iter_mut().zip(&keys) {
+        *o = k.1;
+    }
+}
+
+impl SmallSweep {
+    /// The cheapest split as (axis, left count, A_L N_L + A_R N_R); ties go to the most balanced
+    /// split, then the lower axis and the smaller left count. `None` for fewer than 2 refs.
+    fn best_split(&mut self, refs: &[PrimRef]) -> Option<(usize, usize, f32)> {
+        let n = refs.len().min(SMALL_NODE);
+        let mut best: Option<(f32, usize, usize, usize)> = None;
+        for axis in 0..3 {
+            let order = &mut self.order[axis][..n];
+            sort_by_centroid(order, refs, axis);
+            let mut acc = Box3::EMPTY;
+            for i in (1..n).rev() {
+                acc = acc.union(refs[order[i] as usize].bounds);
+                self.right_area[i] = acc.area();
+            }
+            let mut left = Box3::EMPTY;
+            for mid in 1..n {
+                left = left.union(refs[order[mid - 1] as usize].bounds);
+                let weighted_area =
+                    left.area() * mid as f32 + self.right_area[mid] * (n - mid) as f32;
+                let imbalance = mid.abs_diff(n - mid);
+                if best.map_or(true, |(w, imb, _, _)| {
+                    weighted_area < w || (weighted_area == w && imbalance < imb)
+                }) {
+                    best = Some((weighted_area, imbalance, axis, mid));
+                }
+            }
+        }
+        best.map(|(w, _, axis, mid)| (axis, mid, w))
+    }
+
+    /// Move the primitives in `mask` (see [`best_subset`]) to the front, keeping their order;
+    /// returns how many there are.
+    fn apply_subset(&mut self, refs: &mut [PrimRef], mask: u32) -> usize {
+        let in_left = |i: usize| mask >> i & 1 == 1;
+        self.scratch.clear();
+        let indexed = || refs.iter().enumerate();
+        self.scratch.extend(indexed().filter(|&(i, _)| in_left(i)).map(|(_, r)| *r));
+        let mid = self.scratch.len();
+        self.scratch.extend(indexed().filter(|&(i, _)| !in_left(i)).map(|(_, r)| *r));
+        refs.copy_from_slice(&self.scratch);
+        mid
+    }
+
+    /// Reorder `refs` into the order `best_split` found on `axis`.
+    fn apply(&mut self, refs: &mut [PrimRef], axis: usize) {
+        self.scratch.clear();
+        let order = &self.order[axis][..refs.len().min(SMALL_NODE)];
+        self.scratch.extend(order.iter().map(|&i| refs[i as usize]));
+        refs.copy_from_slice(&self.scratch);
+    }
+}
+
+/// Add one primitive to its bin on each axis of `grid` (3 x `k` bins). All three axes, unusable
+/// ones included (they all land in bin 0): cheaper than a branch per axis in the hottest loop of
+/// the build.
+#[inline]
+fn bin_into(grid: &mut [Bin], k: usize, binning: &Binning, r: &PrimRef) {
+    let b = binning.bins(r.centroid.into());
+    for (axis, &i) in b.iter().enumerate() {
+        if let Some(bin) = grid.get_mut(axis * k + i) {
+            bin.bounds = bin.bounds.union(r.bounds);
+            bin.count += 1;
+        }
+    }
+}
+
 impl Binner {
     /// Bin the primitives and sweep the K - 1 planes between bins on every usable axis; `None`
     /// when no plane leaves primitives on both sides.
     fn best_split(&mut self, refs: &[PrimRef], binning: &Binning) -> Option<Split> {
         let k = self.bins;
         self.grid.fill(Bin::EMPTY);
-        for r in refs {
-            let b = binning.bins(r.centroid);
-            // All three axes, unusable ones included (they all land in bin 0): cheaper than a
-            // branch per axis in the hottest loop of the build.
-            for axis in 0..3 {
-                let bin = &mut self.grid[axis * k + b[axis] as usize];
-                bin.bounds = bin.bounds.union(r.bounds);
-                bin.count += 1;
-            }
+        let (grid, spare) = self.grid.split_at_mut(3 * k);
+        // Neighbouring primitives often land in the same bin, and each update must wait for the
+        // previous one's store; alternating between two grids halves those chains.
+        let mut pairs = refs.chunks_exact(2);
+        for pair in &mut pairs {
+            bin_into(grid, k, binning, &pair[0]);
+            bin_into(spare, k, binning, &pair[1]);
+        }
+        for r in pairs.remainder() {
+            bin_into(grid, k, binning, r);
+        }
+        for (g, s) in grid.iter_mut().zip(spare.iter()) {
+            *g = g.add(s);
         }
 
         let mut best: Option<Split> = None;
@@ -373,18 +652,31 @@ fn partition(
     axis: usize,
     split_bin: u32,
 ) -> (usize, Box3, Box3) {
+    let split_bin = split_bin as usize;
+    let goes_left = |r: &PrimRef| binning.bin(r.centroid[axis], axis) < split_bin;
+    // Hoare's scheme: scan in from both ends and swap only pairs that are both on the wrong
+    // side, so each record moves at most once.
     let (mut i, mut j) = (0, refs.len());
     let (mut lc, mut rc) = (Box3::EMPTY, Box3::EMPTY);
-    while i < j {
-        let c = refs[i].centroid;
-        if binning.bins(c)[axis] < split_bin {
-            lc = lc.grow(c.into());
+    loop {
+        while i < j && goes_left(&refs[i]) {
+            lc = lc.grow(refs[i].centroid.into());
             i += 1;
-        } else {
-            rc = rc.grow(c.into());
-            j -= 1;
-            refs.swap(i, j);
         }
+        while i < j && !goes_left(&refs[j - 1]) {
+            rc = rc.grow(refs[j - 1].centroid.into());
+            j -= 1;
+        }
+        if j - i < 2 {
+            // i == j: done. j == i + 1 cannot happen: refs[i] went right, so the second scan
+            // stopped at a left record at j - 1 > i, or at j == i.
+            break;
+        }
+        refs.swap(i, j - 1);
+        lc = lc.grow(refs[i].centroid.into());
+        rc = rc.grow(refs[j - 1].centroid.into());
+        i += 1;
+        j -= 1;
     }
     (i, lc, rc)
 }
