@@ -13,10 +13,21 @@
 //! two sweeps over the bins. A node then costs one O(N) binning pass plus one O(N) in-place
 //! partition, independent of K, and the whole build is O(N log N).
 //!
+//! Where the time goes, and what it costs in quality: most nodes are small, so per-node overhead
+//! (clearing and sweeping 3K bins) matters as much as the per-primitive binning pass. Nodes of at
+//! most 4 primitives therefore try every split into two sets exactly (no bins; over half the
+//! nodes), nodes of at most 64 use at most 8 bins, and larger ones `sah_bins`. Binning
+//! alternates between two bin grids on large nodes, because neighbouring primitives mostly land
+//! in the same bin and each update would wait for the previous one's store. Against 16 bins
+//! everywhere this builds Conference about 1.6x faster at SAH 44.5 instead of 44.3 (8 bins
+//! everywhere would be 52.7: the top of the tree needs the finer planes). BENCHMARKS.md has the
+//! numbers.
+//!
 //! The knobs, all in [`BuildConfig`]:
-//! - `sah_bins` (default 16, clamped to 2..=256 here): more bins find planes closer to the full
-//!   sweep's optimum but cost O(K) per node in the sweep and 3K boxes of scratch to clear per
-//!   node; Wald found 16 bins already close to the full sweep's quality.
+//! - `sah_bins` (default 16, clamped to 2..=256 here; nodes of at most 64 primitives use
+//!   `min(sah_bins, 8)`): more bins find planes closer to the full sweep's optimum but cost O(K)
+//!   per node in the sweep and 3K (large nodes: 6K) boxes of scratch to clear per node; Wald
+//!   found 16 bins already close to the full sweep's quality.
 //! - `traversal_cost` / `intersection_cost` (defaults 1.0 / 1.0): they never change which plane
 //!   wins, only whether splitting beats a leaf, and only their ratio matters there; a larger
 //!   traversal cost makes leaves cheaper relative to splitting, so the builder stops earlier and
@@ -192,21 +203,24 @@ struct Split {
 
 /// Scratch reused across nodes so the build allocates only its output.
 struct Binner {
+    /// `sah_bins`, clamped: the most bins a node uses.
     bins: usize,
-    /// 3 axes x `bins`.
+    /// Two grids of 3 axes x `bins` (see [`Binner::best_split`]).
     grid: Vec<Bin>,
     /// For the sweep: bounds and counts of bins `i..` on the current axis.
     suffix: Vec<Bin>,
 }
 
-/// Nodes of at most this many primitives skip the bins: sorting them on each axis and sweeping
-/// every split costs less than clearing and sweeping 3 x `sah_bins` bins, and finds the best
-/// object split instead of an approximation. Most nodes of a tree are this small.
-const SMALL_NODE: usize = 16;
-
-/// Nodes of at most this many primitives try every partition into two non-empty sets (at most
-/// 7 for 4 primitives), cheaper than sorting on three axes and never worse.
+/// Nodes of at most this many primitives skip the bins and try every partition into two
+/// non-empty sets (at most 7 for 4 primitives): cheaper than clearing and sweeping 3 x K bins,
+/// and exact. Over half the nodes of a tree are this small.
 const TINY_NODE: usize = 4;
+
+/// Nodes of at most this many primitives use at most [`MEDIUM_BINS`] bins: the per-node sweep
+/// and clearing, not the per-primitive binning, dominate their cost, and a plane error there
+/// moves few primitives. 8 bins everywhere would cost Conference 52.7 SAH instead of 44.5.
+const MEDIUM_NODE: usize = 64;
+const MEDIUM_BINS: usize = 8;
 
 /// How a node will be split, before it is known whether a leaf is cheaper.
 enum Plan {
@@ -214,12 +228,6 @@ enum Plan {
     Binned(Binning, Split),
     /// Tiny node: primitive `i` goes left if bit `i` of `mask` is set.
     Subset { mask: u32, weighted_area: f32 },
-    /// Small node: sort on `axis` and split after the first `mid` primitives.
-    Sorted {
-        axis: usize,
-        mid: usize,
-        weighted_area: f32,
-    },
     /// No plane separates the centroids: split by index in half.
     Halve,
 }
@@ -240,7 +248,8 @@ struct Builder {
     traversal_cost: f32,
     intersection_cost: f32,
     binner: Binner,
-    sorter: SmallSweep,
+    /// For reordering tiny nodes.
+    scratch: Vec<PrimRef>,
 }
 
 /// Build a BVH with the binned SAH. `centroids[i]` is primitive `i`'s split position; if the slice
@@ -348,12 +357,9 @@ impl Builder {
                 bins,
                 grid: vec![Bin::EMPTY; 6 * bins],
                 suffix: vec![Bin::EMPTY; bins],
+
             },
-            sorter: SmallSweep {
-                order: [[0; SMALL_NODE]; 3],
-                right_area: [0.0; SMALL_NODE],
-                scratch: Vec::with_capacity(SMALL_NODE),
-            },
+            scratch: Vec::with_capacity(TINY_NODE),
         }
     }
 
@@ -380,11 +386,7 @@ impl Builder {
                 }
             }
             Plan::Subset { mask, .. } => {
-                let mid = self.sorter.apply_subset(refs, mask);
-                halves(refs, mid)
-            }
-            Plan::Sorted { axis, mid, .. } => {
-                self.sorter.apply(refs, axis);
+                let mid = apply_subset(refs, mask, &mut self.scratch);
                 halves(refs, mid)
             }
             // Centroids coincide on every axis (or no plane separated them) and the node is too
@@ -403,17 +405,12 @@ impl Builder {
                 None => Plan::Halve,
             };
         }
-        if refs.len() <= SMALL_NODE {
-            return match self.sorter.best_split(refs) {
-                Some((axis, mid, weighted_area)) => Plan::Sorted {
-                    axis,
-                    mid,
-                    weighted_area,
-                },
-                None => Plan::Halve,
-            };
-        }
-        let binning = Binning::new(centroid_bounds, self.binner.bins);
+        let bins = if refs.len() <= MEDIUM_NODE {
+            self.binner.bins.min(MEDIUM_BINS)
+        } else {
+            self.binner.bins
+        };
+        let binning = Binning::new(centroid_bounds, bins);
         match self.binner.best_split(refs, &binning) {
             Some(s) => Plan::Binned(binning, s),
             None => Plan::Halve,
@@ -426,9 +423,7 @@ impl Builder {
     fn leaf_is_cheaper(&self, count: usize, area: f32, plan: &Plan) -> bool {
         let weighted_area = match plan {
             Plan::Binned(_, s) => s.weighted_area,
-            Plan::Sorted { weighted_area, .. } | Plan::Subset { weighted_area, .. } => {
-                *weighted_area
-            }
+            Plan::Subset { weighted_area, .. } => *weighted_area,
             Plan::Halve => return true,
         };
         count as f32 * self.intersection_cost * area
@@ -478,87 +473,17 @@ fn best_subset(refs: &[PrimRef]) -> Option<(u32, f32)> {
     best.map(|(w, _, mask)| (mask, w))
 }
 
-/// The exact SAH sweep for nodes of at most [`SMALL_NODE`] primitives: sort on each axis, then
-/// every split between neighbours in that order is a candidate. Fixed-size scratch, no
-/// allocation per node.
-struct SmallSweep {
-    /// Per axis, the node's primitives (indices into the node's range) by centroid.
-    order: [[u8; SMALL_NODE]; 3],
-    /// `right_area[i]`: area of the box around primitives `i..` in the current axis's order.
-    right_area: [f32; SMALL_NODE],
-    scratch: Vec<PrimRef>,
-}
-
-/// Fill `order` with `0..order.len()` sorted by centroid on `axis`: an insertion sort, the
-/// fastest for a few elements. Stable (equal keys keep their order, so the tree is
-/// deterministic); a NaN key compares false and just stays put.
-fn sort_by_centroid(order: &mut [u8], refs: &[PrimRef], axis: usize) {
-    let mut keys = [(0.0f32, 0u8); SMALL_NODE];
-    let n = order.len().min(SMALL_NODE);
-    for (i, r) in refs[..n].iter().enumerate() {
-        let x = (r.centroid[axis], i as u8);
-        let mut j = i;
-        while j > 0 && x.0 < keys[j - 1].0 {
-            keys[j] = keys[j - 1];
-            j -= 1;
-        }
-        keys[j] = x;
-    }
-    for (o, k) in order.iter_mut().zip(&keys) {
-        *o = k.1;
-    }
-}
-
-impl SmallSweep {
-    /// The cheapest split as (axis, left count, A_L N_L + A_R N_R); ties go to the most balanced
-    /// split, then the lower axis and the smaller left count. `None` for fewer than 2 refs.
-    fn best_split(&mut self, refs: &[PrimRef]) -> Option<(usize, usize, f32)> {
-        let n = refs.len().min(SMALL_NODE);
-        let mut best: Option<(f32, usize, usize, usize)> = None;
-        for axis in 0..3 {
-            let order = &mut self.order[axis][..n];
-            sort_by_centroid(order, refs, axis);
-            let mut acc = Box3::EMPTY;
-            for i in (1..n).rev() {
-                acc = acc.union(refs[order[i] as usize].bounds);
-                self.right_area[i] = acc.area();
-            }
-            let mut left = Box3::EMPTY;
-            for mid in 1..n {
-                left = left.union(refs[order[mid - 1] as usize].bounds);
-                let weighted_area =
-                    left.area() * mid as f32 + self.right_area[mid] * (n - mid) as f32;
-                let imbalance = mid.abs_diff(n - mid);
-                if best.map_or(true, |(w, imb, _, _)| {
-                    weighted_area < w || (weighted_area == w && imbalance < imb)
-                }) {
-                    best = Some((weighted_area, imbalance, axis, mid));
-                }
-            }
-        }
-        best.map(|(w, _, axis, mid)| (axis, mid, w))
-    }
-
-    /// Move the primitives in `mask` (see [`best_subset`]) to the front, keeping their order;
-    /// returns how many there are.
-    fn apply_subset(&mut self, refs: &mut [PrimRef], mask: u32) -> usize {
-        let in_left = |i: usize| mask >> i & 1 == 1;
-        self.scratch.clear();
-        let indexed = || refs.iter().enumerate();
-        self.scratch.extend(indexed().filter(|&(i, _)| in_left(i)).map(|(_, r)| *r));
-        let mid = self.scratch.len();
-        self.scratch.extend(indexed().filter(|&(i, _)| !in_left(i)).map(|(_, r)| *r));
-        refs.copy_from_slice(&self.scratch);
-        mid
-    }
-
-    /// Reorder `refs` into the order `best_split` found on `axis`.
-    fn apply(&mut self, refs: &mut [PrimRef], axis: usize) {
-        self.scratch.clear();
-        let order = &self.order[axis][..refs.len().min(SMALL_NODE)];
-        self.scratch.extend(order.iter().map(|&i| refs[i as usize]));
-        refs.copy_from_slice(&self.scratch);
-    }
+/// Move the primitives in `mask` (see [`best_subset`]) to the front, keeping their order;
+/// returns how many there are. `scratch` is reused across nodes.
+fn apply_subset(refs: &mut [PrimRef], mask: u32, scratch: &mut Vec<PrimRef>) -> usize {
+    let in_left = |i: usize| mask >> i & 1 == 1;
+    scratch.clear();
+    let indexed = || refs.iter().enumerate();
+    scratch.extend(indexed().filter(|&(i, _)| in_left(i)).map(|(_, r)| *r));
+    let mid = scratch.len();
+    scratch.extend(indexed().filter(|&(i, _)| !in_left(i)).map(|(_, r)| *r));
+    refs.copy_from_slice(scratch);
+    mid
 }
 
 /// Add one primitive to its bin on each axis of `grid` (3 x `k` bins). All three axes, unusable
@@ -579,21 +504,30 @@ impl Binner {
     /// Bin the primitives and sweep the K - 1 planes between bins on every usable axis; `None`
     /// when no plane leaves primitives on both sides.
     fn best_split(&mut self, refs: &[PrimRef], binning: &Binning) -> Option<Split> {
-        let k = self.bins;
-        self.grid.fill(Bin::EMPTY);
-        let (grid, spare) = self.grid.split_at_mut(3 * k);
-        // Neighbouring primitives often land in the same bin, and each update must wait for the
-        // previous one's store; alternating between two grids halves those chains.
-        let mut pairs = refs.chunks_exact(2);
-        for pair in &mut pairs {
-            bin_into(grid, k, binning, &pair[0]);
-            bin_into(spare, k, binning, &pair[1]);
-        }
-        for r in pairs.remainder() {
-            bin_into(grid, k, binning, r);
-        }
-        for (g, s) in grid.iter_mut().zip(spare.iter()) {
-            *g = g.add(s);
+        let k = binning.last + 1;
+        let (grid, spare) = self.grid.split_at_mut(3 * self.bins);
+        let (grid, spare) = (&mut grid[..3 * k], &mut spare[..3 * k]);
+        grid.fill(Bin::EMPTY);
+        if refs.len() <= MEDIUM_NODE {
+            for r in refs {
+                bin_into(grid, k, binning, r);
+            }
+        } else {
+            // Neighbouring primitives often land in the same bin, and each update must wait for
+            // the previous one's store; alternating between two grids halves those chains. Not
+            // worth the second grid's clearing and merging on medium nodes.
+            spare.fill(Bin::EMPTY);
+            let mut pairs = refs.chunks_exact(2);
+            for pair in &mut pairs {
+                bin_into(grid, k, binning, &pair[0]);
+                bin_into(spare, k, binning, &pair[1]);
+            }
+            for r in pairs.remainder() {
+                bin_into(grid, k, binning, r);
+            }
+            for (g, s) in grid.iter_mut().zip(spare.iter()) {
+                *g = g.add(s);
+            }
         }
 
         let mut best: Option<Split> = None;
@@ -602,12 +536,12 @@ impl Binner {
             // Right-to-left: suffix[i] = union of bins i.. ; then left-to-right, the plane before
             // bin i has bins ..i on the left and suffix[i] on the right.
             let mut acc = Bin::EMPTY;
-            for (s, g) in self.suffix.iter_mut().zip(grid).rev() {
+            for (s, g) in self.suffix[..k].iter_mut().zip(grid).rev() {
                 acc = acc.add(g);
                 *s = acc;
             }
             let mut left = Bin::EMPTY;
-            for (i, (g, right)) in grid.iter().zip(&self.suffix[1..]).enumerate() {
+            for (i, (g, right)) in grid.iter().zip(&self.suffix[1..k]).enumerate() {
                 // After an empty bin the plane splits the same sets as the one before it.
                 if g.count == 0 {
                     continue;
@@ -695,4 +629,34 @@ fn range_bounds(refs: &[PrimRef]) -> (Box3, Box3) {
     refs.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, c), r| {
         (b.union(r.bounds), c.grow(r.centroid.into()))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The partition's scalar `bin` must put every centroid in the bin the SIMD `bins` chose,
+    /// or child boxes taken from the bins would miss primitives.
+    #[test]
+    fn scalar_and_simd_bins_agree() {
+        let bounds = Box3 {
+            min: Vec3A::new(-1.0, 0.0, 3.0),
+            max: Vec3A::new(2.0, 1e-30, 3.0),
+        };
+        for bins in [2, 8, 16, 256] {
+            let binning = Binning::new(&bounds, bins);
+            let mut values: Vec<f32> = (-40..=40).map(|i| i as f32 * 0.0625).collect();
+            values.extend([f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, 1e-30, 2.0, 3.0]);
+            for &x in &values {
+                for &y in &values {
+                    let c = Vec3A::new(x, y, x);
+                    let simd = binning.bins(c);
+                    for axis in 0..3 {
+                        assert_eq!(simd[axis], binning.bin(c[axis], axis), "{c:?} axis {axis}");
+                        assert!(simd[axis] < bins);
+                    }
+                }
+            }
+        }
+    }
 }
