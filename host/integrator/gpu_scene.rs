@@ -97,30 +97,22 @@ impl<'a> GpuScene<'a> {
 
     pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let max = ctx.info.max_storage_buffer_range as usize;
-        let check = |name: &str, bytes: usize| -> Result<()> {
-            if bytes > max {
-                anyhow::bail!(
-                    "the scene's {name} take {} MiB, over this device's {} MiB storage-buffer limit",
-                    bytes >> 20,
-                    max >> 20
-                );
+        // Per-binding limits: storage buffers by byte range, the BVH's texel buffers by texel
+        // count (16-byte RGBA32UI texels).
+        let storage_limit = ctx.info.max_storage_buffer_range as usize;
+        let texel_limit = ctx.info.max_texel_buffer_elements as usize * 16;
+        let check = |name: &str, bytes: usize, limit: usize, kind: &str| -> Result<()> {
+            if bytes > limit {
+                anyhow::bail!("the scene's {name} take {} MiB, over this device's {} MiB {kind} limit", bytes >> 20, limit >> 20);
             }
             Ok(())
         };
         let b = &prepared.buffers;
-        let max_texels = ctx.info.max_texel_buffer_elements as usize;
-        let check_texels = |name: &str, bytes: usize| -> Result<()> {
-            if bytes / 16 > max_texels {
-                anyhow::bail!("the scene's {name} take {} texels, over this device's texel-buffer limit of {max_texels}", bytes / 16);
-            }
-            Ok(())
-        };
-        check_texels("BVH nodes", prepared.flat.node_bytes().len())?;
-        check_texels("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()))?;
-        check("shading data", std::mem::size_of_val(b.shading.as_slice()))?;
-        check("texels", std::mem::size_of_val(prepared.atlas.texels.as_slice()))?;
-        check("texture coordinates", std::mem::size_of_val(b.uvs.as_slice()))?;
+        check("BVH nodes", prepared.flat.node_bytes().len(), texel_limit, "texel-buffer")?;
+        check("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()), texel_limit, "texel-buffer")?;
+        check("shading data", std::mem::size_of_val(b.shading.as_slice()), storage_limit, "storage-buffer")?;
+        check("texels", std::mem::size_of_val(prepared.atlas.texels.as_slice()), storage_limit, "storage-buffer")?;
+        check("texture coordinates", std::mem::size_of_val(b.uvs.as_slice()), storage_limit, "storage-buffer")?;
         // Unused bindings still need a buffer: one zero element stands in for an empty array.
         fn or_one<T: bytemuck::Pod>(v: &[T]) -> std::borrow::Cow<'_, [T]> {
             if v.is_empty() { vec![T::zeroed()].into() } else { v.into() }

@@ -129,15 +129,22 @@ impl<'a> ComputePipeline<'a> {
         Ok(p)
     }
 
-    /// Points binding `binding` at `buffer` (whole buffer). Must not be called while a
-    /// submission using this pipeline is in flight (vkrt always waits).
-    pub fn bind(&self, binding: u32, buffer: &Buffer) -> Result<()> {
-        let kind = self
-            .bindings
+    /// What binding `binding` holds.
+    fn kind(&self, binding: u32) -> Result<BindingKind> {
+        self.bindings
             .iter()
             .find(|b| b.0 == binding)
             .map(|b| b.1)
-            .ok_or_else(|| anyhow!("pipeline '{}' has no binding {binding}", self.name))?;
+            .ok_or_else(|| anyhow!("pipeline '{}' has no binding {binding}", self.name))
+    }
+
+    /// Points binding `binding` at `buffer` (whole buffer). Must not be called while a
+    /// submission using this pipeline is in flight (vkrt always waits).
+    pub fn bind(&self, binding: u32, buffer: &Buffer) -> Result<()> {
+        let kind = self.kind(binding)?;
+        if kind == BindingKind::Texels {
+            return Err(anyhow!("pipeline '{}': binding {binding} is a texel buffer; bind a view with bind_texels", self.name));
+        }
         let info = [vk::DescriptorBufferInfo { buffer: buffer.buffer, offset: 0, range: vk::WHOLE_SIZE }];
         let write = [vk::WriteDescriptorSet::default()
             .dst_set(self.set)
@@ -151,8 +158,8 @@ impl<'a> ComputePipeline<'a> {
 
     /// Points texel-buffer binding `binding` at `view`. Same rule as [`ComputePipeline::bind`].
     pub fn bind_texels(&self, binding: u32, view: &TexelView) -> Result<()> {
-        if !self.bindings.contains(&(binding, BindingKind::Texels)) {
-            return Err(anyhow!("pipeline '{}' has no texel-buffer binding {binding}", self.name));
+        if self.kind(binding)? != BindingKind::Texels {
+            return Err(anyhow!("pipeline '{}': binding {binding} is not a texel buffer", self.name));
         }
         let views = [view.view];
         let write = [vk::WriteDescriptorSet::default()

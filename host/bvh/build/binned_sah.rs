@@ -357,7 +357,6 @@ impl Builder {
                 bins,
                 grid: vec![Bin::EMPTY; 6 * bins],
                 suffix: vec![Bin::EMPTY; bins],
-
             },
             scratch: Vec::with_capacity(TINY_NODE),
         }
@@ -367,7 +366,8 @@ impl Builder {
     /// `None` for a leaf.
     fn split(&mut self, refs: &mut [PrimRef], centroid_bounds: &Box3, area: f32) -> Option<Children> {
         let count = refs.len();
-        if count <= 1 && count <= self.leaf_size {
+        // One primitive is always a leaf (leaf_size is at least 1).
+        if count <= 1 {
             return None;
         }
         let plan = self.plan(refs, centroid_bounds);
