@@ -51,6 +51,27 @@ fn info_lists_the_device_it_would_use() {
 }
 
 #[test]
+fn output_into_a_closed_pipe_ends_quietly() {
+    // As in `vkrt info | head -1`: the reader is gone before vkrt prints (it needs ~0.1 s to
+    // open Vulkan first). vkrt must not panic; it ends by SIGPIPE like other Unix tools.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vkrt"))
+        .arg("info")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run vkrt");
+    drop(child.stdout.take());
+    let o = child.wait_with_output().expect("wait for vkrt");
+    let err = stderr(&o);
+    assert!(!err.contains("panicked"), "vkrt panicked: {err}");
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        assert_eq!(o.status.signal(), Some(libc::SIGPIPE), "status {:?}, stderr: {err}", o.status);
+    }
+}
+
+#[test]
 fn renders_png_exr_and_pfm_of_the_same_image() {
     let dir = common::scratch_dir("cli-formats");
     let mut images = Vec::new();
