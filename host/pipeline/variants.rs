@@ -35,4 +35,5 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
     Variant { name: "layout_probe_parent_link", source: "test/layout_probe.comp", defines: &["LAYOUT_PARENT_LINK"] },
     Variant { name: "bsdf_probe", source: "test/bsdf_probe.comp", defines: &[] },
+    Variant { name: "sampler_probe", source: "test/sampler_probe.comp", defines: &[] },
 ];
