@@ -80,7 +80,8 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
     pub builder: BuilderKind,
     /// BVH layout the shaders walk: threaded (escape links), multi-order (six threaded orders,
-    /// one per dominant ray direction) or parent-link (ordered, Hapala et al. 2011).
+    /// one per dominant ray direction), parent-link (ordered, Hapala et al. 2011) or compact
+    /// (threaded in 16-byte quantised nodes).
     #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
     pub layout: LayoutKind,
     /// Print scene and timing details, and which shader variant ran and why.

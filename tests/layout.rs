@@ -27,13 +27,11 @@ fn parse(spv: &[u8]) -> naga::Module {
     naga::front::spv::parse_u8_slice(spv, &naga::front::spv::Options::default()).expect("naga reads the layout probe")
 }
 
-/// The parent-link layout's node struct, from the probe compiled with LAYOUT_PARENT_LINK (the
-/// node binding holds it there), with the same binding number and stride as the threaded one.
-#[test]
-fn parent_link_node_matches_its_glsl_mirror() {
-    let module = parse(vkrt::pipeline::shaders::LAYOUT_PROBE_PARENT_LINK);
+/// A layout's node struct, from the probe compiled for that layout (the node binding holds it
+/// there), with the node binding's number and the struct's stride.
+fn check_node_mirror(spv: &[u8], name: &str, size: usize, fields: &[(&str, usize)]) {
+    let module = parse(spv);
     let structs = spirv_structs(&module);
-    let (name, size, fields) = rust_fields!(GpuParentNode { bmin, parent, bmax, leaf });
     let s = structs.get(name).unwrap_or_else(|| panic!("struct {name} is missing from the SPIR-V"));
     let rust: Vec<(String, u32)> = fields.iter().map(|(n, o)| (n.to_string(), *o as u32)).collect();
     assert_eq!(s.members, rust, "members and offsets of {name}: SPIR-V (left) vs Rust (right)");
@@ -48,7 +46,19 @@ fn parent_link_node_matches_its_glsl_mirror() {
     let naga::TypeInner::Struct { members, .. } = &module.types[nodes.ty].inner else { panic!("Nodes is not a block") };
     let naga::TypeInner::Array { base, stride, .. } = &module.types[members[0].ty].inner else { panic!("Nodes holds no array") };
     assert_eq!(module.types[*base].name.as_deref(), Some(name));
-    assert_eq!(*stride as usize, size_of::<GpuParentNode>());
+    assert_eq!(*stride as usize, size);
+}
+
+#[test]
+fn parent_link_node_matches_its_glsl_mirror() {
+    let (name, size, fields) = rust_fields!(GpuParentNode { bmin, parent, bmax, leaf });
+    check_node_mirror(vkrt::pipeline::shaders::LAYOUT_PROBE_PARENT_LINK, name, size, &fields);
+}
+
+#[test]
+fn compact_node_matches_its_glsl_mirror() {
+    let (name, size, fields) = rust_fields!(GpuCompactNode { min_xy, min_z_max_x, max_yz, link });
+    check_node_mirror(vkrt::pipeline::shaders::LAYOUT_PROBE_COMPACT, name, size, &fields);
 }
 
 fn spirv_structs(module: &naga::Module) -> HashMap<String, SpirvStruct> {
@@ -82,7 +92,8 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
             ambient, max_depth, light_count, emitter_count, seed, scene_scale, sky_color, sky_texture
         }),
         rust_fields!(GpuPush {
-            tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, node_count
+            tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, node_count,
+            grid_origin, _pad0, grid_scale, _pad1
         }),
         rust_fields!(GpuRay { origin, tmin, direction, tmax }),
         rust_fields!(GpuHit { t, prim, u, v, nodes_visited, tris_tested, _pad0, _pad1 }),

@@ -2,6 +2,7 @@
 
 use crate::bvh::{self, BuildConfig, BuilderKind};
 use crate::gpu::{Buffer, Context, TexelView};
+use crate::layout::compact::QuantGrid;
 use crate::layout::flatten::{flatten_as, FlatBvh};
 use crate::layout::{GpuPush, LayoutKind};
 use crate::pipeline::ComputePipeline;
@@ -65,6 +66,9 @@ pub struct GpuScene<'a> {
     pub node_count: u32,
     /// Which layout `nodes` holds: shaders must be the variant for it.
     pub layout: LayoutKind,
+    /// The compact layout's grid (zero for the others); it goes to the shaders in the push
+    /// constants.
+    pub grid: QuantGrid,
 }
 
 impl<'a> GpuScene<'a> {
@@ -85,7 +89,12 @@ impl<'a> GpuScene<'a> {
 
     /// The scene's part of the push constants; each dispatch fills in the rest.
     pub fn push(&self) -> GpuPush {
-        GpuPush { node_count: self.node_count, ..bytemuck::Zeroable::zeroed() }
+        GpuPush {
+            node_count: self.node_count,
+            grid_origin: self.grid.origin.to_array(),
+            grid_scale: self.grid.scale.to_array(),
+            ..bytemuck::Zeroable::zeroed()
+        }
     }
 
     /// Binds the BVH node and triangle texel buffers (BINDING_NODES, BINDING_TRIANGLES).
@@ -137,6 +146,7 @@ impl<'a> GpuScene<'a> {
             triangle_count: prepared.flat.triangles.len() as u32,
             node_count: prepared.flat.node_count() as u32,
             layout: prepared.flat.layout(),
+            grid: prepared.flat.grid(),
         })
     }
 }

@@ -63,6 +63,8 @@ shared_constants! {
     LEAF_COUNT_BITS = 8;
     /// Escape link value meaning "traversal is done".
     NODE_NONE = 0xFFFF_FFFF;
+    /// Marks a leaf in `GpuCompactNode::link` (host/layout/compact.rs).
+    COMPACT_LEAF_FLAG = 0x8000_0000;
     /// Primitive id of a miss.
     PRIM_NONE = 0xFFFF_FFFF;
 

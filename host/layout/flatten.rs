@@ -1,9 +1,10 @@
 //! Flatten a [`Bvh`] into the arrays the shaders walk: the triangles in leaf order (shared by
 //! every layout) and the nodes of the chosen [`LayoutKind`]. The threaded layout is built here;
-//! the others live in `multi_order.rs` and `parent_link.rs`.
+//! the others live in `multi_order.rs`, `parent_link.rs` and `compact.rs`.
 
 use super::constants::{LEAF_COUNT_BITS, NODE_NONE};
-use super::{cpu_trace, multi_order, parent_link, GpuHit, GpuNode, GpuParentNode, GpuRay, GpuTriangle, LayoutKind};
+use super::compact::{self, QuantGrid};
+use super::{cpu_trace, multi_order, parent_link, GpuCompactNode, GpuHit, GpuNode, GpuParentNode, GpuRay, GpuTriangle, LayoutKind};
 use crate::bvh::{Bvh, NodeKind};
 use crate::scene::Triangle;
 
@@ -16,6 +17,8 @@ pub enum FlatNodes {
     MultiOrder(Vec<GpuNode>),
     /// Sibling pairs with parent links.
     ParentLink(Vec<GpuParentNode>),
+    /// The threaded order in 16-byte nodes, and the grid their boxes are quantised to.
+    Compact(Vec<GpuCompactNode>, QuantGrid),
 }
 
 impl Default for FlatNodes {
@@ -38,6 +41,7 @@ impl FlatBvh {
             FlatNodes::Threaded(_) => LayoutKind::Threaded,
             FlatNodes::MultiOrder(_) => LayoutKind::MultiOrder,
             FlatNodes::ParentLink(_) => LayoutKind::ParentLink,
+            FlatNodes::Compact(..) => LayoutKind::Compact,
         }
     }
     /// The node array as uploaded to the GPU.
@@ -45,6 +49,14 @@ impl FlatBvh {
         match &self.nodes {
             FlatNodes::Threaded(n) | FlatNodes::MultiOrder(n) => bytemuck::cast_slice(n),
             FlatNodes::ParentLink(n) => bytemuck::cast_slice(n),
+            FlatNodes::Compact(n, _) => bytemuck::cast_slice(n),
+        }
+    }
+    /// The compact layout's grid; zero for the others.
+    pub fn grid(&self) -> QuantGrid {
+        match &self.nodes {
+            FlatNodes::Compact(_, grid) => *grid,
+            _ => QuantGrid::default(),
         }
     }
     /// Entries in the node array (for the multi-order layout, all six orders).
@@ -52,6 +64,7 @@ impl FlatBvh {
         match &self.nodes {
             FlatNodes::Threaded(n) | FlatNodes::MultiOrder(n) => n.len(),
             FlatNodes::ParentLink(n) => n.len(),
+            FlatNodes::Compact(n, _) => n.len(),
         }
     }
     /// Bytes the node and triangle arrays occupy on the GPU.
@@ -64,6 +77,7 @@ impl FlatBvh {
             FlatNodes::Threaded(n) => cpu_trace::trace(n, &self.triangles, ray, any_hit),
             FlatNodes::MultiOrder(n) => multi_order::trace(n, &self.triangles, ray, any_hit),
             FlatNodes::ParentLink(n) => parent_link::trace(n, &self.triangles, ray, any_hit),
+            FlatNodes::Compact(n, grid) => compact::trace(n, grid, &self.triangles, ray, any_hit),
         }
     }
 }
@@ -78,6 +92,10 @@ pub fn flatten_as(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind) -> anyhow::R
         LayoutKind::Threaded => FlatNodes::Threaded(threaded(bvh, |_, left, right| (left, right), 0)),
         LayoutKind::MultiOrder => FlatNodes::MultiOrder(multi_order::flatten(bvh)),
         LayoutKind::ParentLink => FlatNodes::ParentLink(parent_link::flatten(bvh)?),
+        LayoutKind::Compact => {
+            let (nodes, grid) = compact::from_threaded(&threaded(bvh, |_, left, right| (left, right), 0))?;
+            FlatNodes::Compact(nodes, grid)
+        }
     };
     Ok(FlatBvh { nodes, triangles })
 }

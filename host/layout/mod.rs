@@ -5,6 +5,7 @@
 //! `tests/layout.rs` checks the mirror against the compiled SPIR-V: nobody keeps them in sync
 //! by hand.
 
+pub mod compact;
 pub mod constants;
 pub mod cpu_trace;
 pub mod flatten;
@@ -50,6 +51,23 @@ pub struct GpuParentNode {
 }
 const _: () = assert!(std::mem::size_of::<GpuParentNode>() == 32);
 
+/// A node of the compact threaded BVH (`compact.rs`): the threaded layout's node in 16 bytes,
+/// its box as 16-bit cells of a per-scene grid (`GpuPush::grid_origin`, `grid_scale`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuCompactNode {
+    /// Cells of min x (low 16 bits) and min y (high 16 bits).
+    pub min_xy: u32,
+    /// Cells of min z (low) and max x (high).
+    pub min_z_max_x: u32,
+    /// Cells of max y (low) and max z (high).
+    pub max_yz: u32,
+    /// Interior: escape index (top bit clear; the node count past the end). Leaf: top bit set,
+    /// then (first triangle << LEAF_COUNT_BITS) | count; a leaf's escape is the next node.
+    pub link: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuCompactNode>() == 16);
+
 /// How the BVH is laid out for stackless traversal on the GPU. Each has its flatten code, its
 /// CPU twin and its shader (`shaders/include/traverse_*.glsl`, picked by a `-D LAYOUT_*` define
 /// per shader variant).
@@ -64,10 +82,13 @@ pub enum LayoutKind {
     /// Parent links walked by the Hapala et al. 2011 state machine: ordered by the split axis
     /// per node (the node tests of an ordered stack traversal), 32 B per node.
     ParentLink,
+    /// The threaded layout in 16 B per node: boxes rounded outwards to a 16-bit grid over the
+    /// scene, one texel fetch per node; a ray may visit a few more nodes.
+    Compact,
 }
 
 impl LayoutKind {
-    pub const ALL: [LayoutKind; 3] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink];
+    pub const ALL: [LayoutKind; 4] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact];
 
     /// The suffix of this layout's shader variants (`pipeline::variants`): "" for threaded, so
     /// a shader with no layout variants walks the default layout.
@@ -76,6 +97,7 @@ impl LayoutKind {
             LayoutKind::Threaded => "",
             LayoutKind::MultiOrder => "_multi_order",
             LayoutKind::ParentLink => "_parent_link",
+            LayoutKind::Compact => "_compact",
         }
     }
 
@@ -85,6 +107,7 @@ impl LayoutKind {
             LayoutKind::Threaded => "threaded",
             LayoutKind::MultiOrder => "multi-order",
             LayoutKind::ParentLink => "parent-link",
+            LayoutKind::Compact => "compact",
         }
     }
 }
@@ -239,8 +262,13 @@ pub struct GpuPush {
     pub any_hit: u32,
     /// Nodes in the BVH array (all orders of a multi-order layout).
     pub node_count: u32,
+    /// The compact layout's grid (`compact::QuantGrid`); zero for the other layouts.
+    pub grid_origin: [f32; 3],
+    pub _pad0: u32,
+    pub grid_scale: [f32; 3],
+    pub _pad1: u32,
 }
-const _: () = assert!(std::mem::size_of::<GpuPush>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuPush>() == 64);
 
 /// A ray for batch queries: origin, tmin, direction, tmax (the `vkrt trace` file layout).
 #[repr(C)]

@@ -12,7 +12,7 @@
 //   the profile showed as the hottest instructions of both trace and path shaders.
 // On GPUs texel fetches go through the texture cache, a fine path for read-only data.
 // The decode assumes the std430 layouts of GpuNode / GpuParentNode (32 B: bmin, link, bmax,
-// leaf) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad); tests/layout.rs pins both, and the
+// leaf), GpuCompactNode (16 B: four words) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad); tests/layout.rs pins both, and the
 // GPU agreement tests (tests/traversal.rs) would see any misread field.
 // Needs GL_EXT_samplerless_texture_functions (enabled by each .comp).
 #ifndef VKRT_BVH_BINDINGS_GLSL
@@ -22,9 +22,12 @@
 
 layout(push_constant) uniform Push { GpuPush push; };
 
-// The node type depends on the layout (see traverse.glsl); both are 32 bytes, 2 texels.
+// The node type depends on the layout (see traverse.glsl): 32 bytes (2 texels), or 16 bytes
+// (1 texel) for the compact layout.
 #if defined(LAYOUT_PARENT_LINK)
 #define BVH_NODE GpuParentNode
+#elif defined(LAYOUT_COMPACT)
+#define BVH_NODE GpuCompactNode
 #else
 #define BVH_NODE GpuNode
 #endif
@@ -38,11 +41,18 @@ layout(set = 0, binding = BINDING_TRIANGLES) uniform utextureBuffer triangle_tex
 
 uint node_count() { return push.node_count; }
 
+#if defined(LAYOUT_COMPACT)
+BVH_NODE load_node(uint i) {
+    uvec4 a = texelFetch(node_texels, int(i));
+    return BVH_NODE(a.x, a.y, a.z, a.w);
+}
+#else
 BVH_NODE load_node(uint i) {
     uvec4 a = texelFetch(node_texels, int(2u * i));
     uvec4 b = texelFetch(node_texels, int(2u * i + 1u));
     return BVH_NODE(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
 }
+#endif
 
 GpuTriangle load_triangle(uint i) {
     uvec4 a = texelFetch(triangle_texels, int(3u * i));

@@ -17,6 +17,13 @@ struct GpuParentNode {
     uint leaf;
 };
 
+struct GpuCompactNode {
+    uint min_xy;
+    uint min_z_max_x;
+    uint max_yz;
+    uint link;
+};
+
 struct GpuTriangle {
     vec3 v0;
     uint prim;
@@ -111,6 +118,10 @@ struct GpuPush {
     uint ray_count;
     uint any_hit;
     uint node_count;
+    vec3 grid_origin;
+    uint _pad0;
+    vec3 grid_scale;
+    uint _pad1;
 };
 
 struct GpuRay {

@@ -21,7 +21,12 @@ layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer Hits { GpuHit h
 
 void main() {
     // Touch every binding so the compiler keeps it.
-    float s = nodes[0].bmin.x + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
+#ifdef LAYOUT_COMPACT
+    float node_value = float(nodes[0].link);
+#else
+    float node_value = nodes[0].bmin.x;
+#endif
+    float s = node_value + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
             + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
             + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x;

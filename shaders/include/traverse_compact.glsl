@@ -1,0 +1,44 @@
+// Stackless walk of the compact threaded BVH: the threaded walk (traverse_threaded.glsl) over
+// 16-byte nodes whose boxes are 16-bit cells of a grid over the scene (push.grid_origin,
+// push.grid_scale). CPU twin: compact::trace (host/layout/compact.rs), which also explains the
+// encoding and why the decoded boxes are conservative.
+#ifndef VKRT_TRAVERSE_COMPACT_GLSL
+#define VKRT_TRAVERSE_COMPACT_GLSL
+
+// `precise`: a product and a sum, never fused, exactly as QuantGrid::decode computes it.
+vec3 decode_cells(uvec3 q, vec3 grid_origin, vec3 grid_scale) {
+    precise vec3 corner = grid_origin + vec3(q) * grid_scale;
+    return corner;
+}
+
+Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    RayPre r = ray_pre(origin, dir, tmin);
+    Hit hit = hit_none();
+    uint count = node_count();
+    // Read once: on lavapipe each push-constant read in the loop is a bounds-checked load.
+    vec3 grid_origin = push.grid_origin;
+    vec3 grid_scale = push.grid_scale;
+    uint index = 0u;
+    while (index < count) {
+        GpuCompactNode node = load_node(index);
+        hit.nodes_visited++;
+        bool leaf = (node.link & COMPACT_LEAF_FLAG) != 0u;
+        vec3 bmin = decode_cells(uvec3(node.min_xy & 0xFFFFu, node.min_xy >> 16, node.min_z_max_x & 0xFFFFu), grid_origin, grid_scale);
+        vec3 bmax = decode_cells(uvec3(node.min_z_max_x >> 16, node.max_yz & 0xFFFFu, node.max_yz >> 16), grid_origin, grid_scale);
+        float t_enter;
+        if (!intersect_box(r, bmin, bmax, tmax, t_enter)) {
+            // A leaf's escape is the next node in pre-order.
+            index = leaf ? index + 1u : node.link;
+            continue;
+        }
+        if (!leaf) {
+            index++;
+            continue;
+        }
+        if (test_leaf(node.link & ~COMPACT_LEAF_FLAG, r, tmax, hit, any_hit) && any_hit) return hit;
+        index++;
+    }
+    return hit;
+}
+
+#endif
