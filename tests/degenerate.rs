@@ -76,6 +76,10 @@ fn nan_inf_zero_and_denormal_rays_are_defined() {
         assert_eq!(hits[i].prim, PRIM_NONE, "ray {i} {:?} should miss: {:?}", rays[i], hits[i]);
         assert_eq!(hits[i].t, f32::INFINITY);
     }
+    // A NaN in the origin, direction or tmin fails the first box test: no walk of the tree.
+    for i in [0, 1, 9] {
+        assert_eq!(hits[i].nodes_visited, 1, "ray {i} {:?} walked the tree", rays[i]);
+    }
     // Denormal and signed-zero components behave as the plain axis-parallel ray does.
     assert!(hits[5..9].iter().any(|h| h.prim != PRIM_NONE), "no axis-parallel ray hit the soup");
     assert_eq!(hits[7].prim, hits[8].prim, "-0 and +0 direction components differ");

@@ -48,21 +48,35 @@ impl RayPre {
             std::mem::swap(&mut kx, &mut ky);
         }
         let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
-        Self { origin, inv_dir, tmin: ray.tmin, kx, ky, kz, shear }
+        // `ray_pre`: a ray with a NaN misses every box.
+        let nan_ray = origin.is_nan() || d.is_nan() || ray.tmin.is_nan();
+        let tmin = if nan_ray { f32::INFINITY } else { ray.tmin };
+        Self { origin, inv_dir, tmin, kx, ky, kz, shear }
     }
 }
 
 /// `intersect_box`: the entry distance if the ray overlaps the box within [tmin, tmax], else
-/// None. Conservative per Ize 2013; NaN-safe (any NaN makes the comparison fail: a miss).
+/// None. Conservative per Ize 2013. Boxes are finite, and a NaN ray has tmin = +inf
+/// (`RayPre::new`), so it misses every box.
 pub fn intersect_box(r: &RayPre, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
     let t0 = (bmin - r.origin) * r.inv_dir;
     let t1 = (bmax - r.origin) * r.inv_dir;
-    let near = t0.min(t1);
-    let far = t0.max(t1);
-    let t_enter = near.x.max(near.y).max(near.z).max(r.tmin);
-    let t_exit = far.x.min(far.y).min(far.z).min(tmax) * SLAB_FAR_PAD;
-    // Written so that NaN compares false: a NaN box or ray is a miss.
+    let near = Vec3::new(sel_min(t0.x, t1.x), sel_min(t0.y, t1.y), sel_min(t0.z, t1.z));
+    let far = Vec3::new(sel_max(t0.x, t1.x), sel_max(t0.y, t1.y), sel_max(t0.z, t1.z));
+    let t_enter = sel_max(r.tmin, sel_max(sel_max(near.x, near.y), near.z));
+    let t_exit = sel_min(tmax, sel_min(sel_min(far.x, far.y), far.z)) * SLAB_FAR_PAD;
     if t_enter <= t_exit { Some(t_enter) } else { None }
+}
+
+/// `sel_min` in intersect.glsl: `a < b ? a : b` (b if either is NaN), what x86's minps does;
+/// unlike `f32::min` it does not skip a NaN.
+pub fn sel_min(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
+/// `sel_max` in intersect.glsl: `a > b ? a : b`.
+pub fn sel_max(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
 }
 
 /// A triangle hit: distance and the barycentric weights of v1 and v2.

@@ -33,7 +33,14 @@ RayPre ray_pre(vec3 origin, vec3 dir, float tmin) {
 #else
     r.inv_dir = vec3(safe_reciprocal(dir.x), safe_reciprocal(dir.y), safe_reciprocal(dir.z));
 #endif
+#ifdef PLAIN_INTERSECT
     r.tmin = tmin;
+#else
+    // A ray with a NaN gets tmin = +inf, so that every box test fails at the root: the select
+    // min/max below may drop a NaN operand, so they cannot be relied on to reject it.
+    bool nan_ray = any(isnan(origin)) || any(isnan(dir)) || isnan(tmin);
+    r.tmin = nan_ray ? 1.0 / 0.0 : tmin;
+#endif
     vec3 a = abs(dir);
     r.kz = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
     r.kx = (r.kz + 1) % 3;
@@ -46,15 +53,26 @@ RayPre ray_pre(vec3 origin, vec3 dir, float tmin) {
 }
 
 #ifndef PLAIN_INTERSECT
+// Minimum and maximum as compare-and-select: one vminps/vmaxps each on x86. GLSL's min() and
+// max() must return the non-NaN operand, which lavapipe compiles to a min, an unordered
+// compare and a masked move: the slab test's 14 min/max took ~20 of the ~130 instructions of
+// a traversal step, and the path tracer ran ~5 % faster without them (BENCHMARKS.md,
+// "Loads on lavapipe"). With a NaN operand these return b. CPU twin: cpu_trace::sel_min/max.
+float sel_min(float a, float b) { return a < b ? a : b; }
+float sel_max(float a, float b) { return a > b ? a : b; }
+vec3 sel_min(vec3 a, vec3 b) { return mix(b, a, lessThan(a, b)); }
+vec3 sel_max(vec3 a, vec3 b) { return mix(b, a, greaterThan(a, b)); }
+
 // Entry distance if the ray overlaps the box within [tmin, tmax], else -1 with `hit` false.
-// Any NaN makes the final comparison false: a miss.
+// Boxes are finite (the loaders drop triangles with a non-finite vertex), and a NaN ray has
+// tmin = +inf (ray_pre), so it misses every box.
 bool intersect_box(RayPre r, vec3 bmin, vec3 bmax, float tmax, out float t_enter) {
     precise vec3 t0 = (bmin - r.origin) * r.inv_dir;
     precise vec3 t1 = (bmax - r.origin) * r.inv_dir;
-    vec3 near = min(t0, t1);
-    vec3 far = max(t0, t1);
-    t_enter = max(max(max(near.x, near.y), near.z), r.tmin);
-    precise float t_exit = min(min(min(far.x, far.y), far.z), tmax) * SLAB_FAR_PAD;
+    vec3 near = sel_min(t0, t1);
+    vec3 far = sel_max(t0, t1);
+    t_enter = sel_max(r.tmin, sel_max(sel_max(near.x, near.y), near.z));
+    precise float t_exit = sel_min(tmax, sel_min(sel_min(far.x, far.y), far.z)) * SLAB_FAR_PAD;
     return t_enter <= t_exit;
 }
 
