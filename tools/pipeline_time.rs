@@ -15,7 +15,7 @@ use anyhow::Result;
 use std::time::Instant;
 use ash::vk;
 use vkrt::gpu::commands::submit_and_wait;
-use vkrt::gpu::{Buffer, Context, ContextOptions, MemoryLocation};
+use vkrt::gpu::{Buffer, Context, ContextOptions, MemoryLocation, TexelFormat};
 use vkrt::layout::constants::*;
 use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
 
@@ -52,7 +52,7 @@ fn run() -> Result<()> {
             let buf = Buffer::new(&ctx, "dummy", 256, usage, MemoryLocation::Device)?;
             buf.clear()?;
             // Views before buffers in the tuple: dropped first.
-            let view = if kind == BindingKind::Texels { Some(buf.texel_view()?) } else { None };
+            let view = if kind == BindingKind::Texels { Some(buf.texel_view(TexelFormat::Rgba32Uint)?) } else { None };
             Ok((b, view, buf))
         })
         .collect::<Result<Vec<_>>>()?;

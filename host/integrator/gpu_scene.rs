@@ -121,8 +121,8 @@ impl<'a> GpuScene<'a> {
         let nodes = Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), texels)?;
         let triangles = Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, texels)?;
         Ok(Self {
-            node_texels: nodes.texel_view()?,
-            triangle_texels: triangles.texel_view()?,
+            node_texels: nodes.texel_view(crate::gpu::TexelFormat::Rgba32Uint)?,
+            triangle_texels: triangles.texel_view(crate::gpu::TexelFormat::Rgba32Uint)?,
             nodes,
             triangles,
             shading: Buffer::with_data(ctx, "shading", &b.shading, storage)?,
