@@ -13,9 +13,11 @@ macro_rules! shared_constants {
 }
 
 shared_constants! {
-    // Descriptor set 0 bindings. Each is one storage buffer (or uniform buffer for FRAME),
-    // except the BVH arrays: RGBA32UI uniform texel buffers (shaders/include/bvh_bindings.glsl
-    // says why), which the layout probe declares as struct arrays to check their layout.
+    // Descriptor set 0 bindings. The arrays the integrators read (BVH, shading data, textures,
+    // light picks) are uniform texel buffers, RGBA32UI except TEXELS (R32UI)
+    // (shaders/include/bvh_bindings.glsl and scene_bindings.glsl say why), which the layout
+    // probe declares as struct arrays to check their layout; FRAME and PATH_PARAMS are uniform
+    // buffers; the rest storage buffers.
     /// Flattened BVH nodes (`GpuNode[]`, 2 texels each).
     BINDING_NODES = 0;
     /// Triangles in leaf order (`GpuTriangle[]`, 3 texels each).
