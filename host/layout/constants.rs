@@ -53,6 +53,8 @@ shared_constants! {
     BINDING_TEXELS = 14;
     /// Per-primitive texture coordinates by primitive id (`GpuUv[]`).
     BINDING_UVS = 15;
+    /// First of the ten outputs of the texel-decode test probe (shaders/test/texel_decode_probe.comp).
+    BINDING_DECODE_OUT = 16;
 
     /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
     /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).

@@ -35,4 +35,5 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "layout_probe", source: "test/layout_probe.comp", defines: &[] },
     Variant { name: "layout_probe_parent_link", source: "test/layout_probe.comp", defines: &["LAYOUT_PARENT_LINK"] },
     Variant { name: "bsdf_probe", source: "test/bsdf_probe.comp", defines: &[] },
+    Variant { name: "texel_decode_probe", source: "test/texel_decode_probe.comp", defines: &[] },
 ];

@@ -12,8 +12,9 @@
 //   the profile showed as the hottest instructions of both trace and path shaders.
 // On GPUs texel fetches go through the texture cache, a fine path for read-only data.
 // The decode assumes the std430 layouts of GpuNode / GpuParentNode (32 B: bmin, link, bmax,
-// leaf) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad); tests/layout.rs pins both, and the
-// GPU agreement tests (tests/traversal.rs) would see any misread field.
+// leaf) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad); tests/layout.rs pins both,
+// tests/texel_decode.rs checks the decode field by field, and the GPU agreement tests
+// (tests/traversal.rs) would see any misread field.
 // Needs GL_EXT_samplerless_texture_functions (enabled by each .comp).
 #ifndef VKRT_BVH_BINDINGS_GLSL
 #define VKRT_BVH_BINDINGS_GLSL

@@ -6,10 +6,11 @@
 // with one vector load per lane. The structs are RGBA32UI texels, and each load_* decodes one
 // from consecutive texels in the std430 field order of layout.glsl (float fields bit-cast,
 // padding read as 0). tests/layout.rs checks that order against Rust through the layout probe,
-// which declares these bindings as struct arrays; the image tests would see a misread field.
-// The texture atlas's texels are R32UI, one packed RGBA8 texel each as before: `unpackUnorm4x8`
-// still decodes them, bit for bit (an RGBA8 view would leave the unorm conversion to the driver).
-// Fields a caller never reads cost nothing: the compiler drops their fetches.
+// which declares these bindings as struct arrays; tests/texel_decode.rs runs every load_* on
+// uploaded arrays and checks each field. The texture atlas's texels are R32UI, one packed RGBA8
+// texel each as before: `unpackUnorm4x8` still decodes them, bit for bit (an RGBA8 view would
+// leave the unorm conversion to the driver).
+// A fetch none of whose fields the caller reads is dead code once inlined, and compilers drop it.
 // Needs GL_EXT_samplerless_texture_functions (enabled by each .comp).
 #ifndef VKRT_SCENE_BINDINGS_GLSL
 #define VKRT_SCENE_BINDINGS_GLSL
