@@ -63,7 +63,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
         vec3 span;
         float tmax;
         if (i < light_count) {
-            GpuLight light = lights[i];
+            GpuLight light = load_light(i);
             if ((!HAS_POINT && light.kind == LIGHT_POINT) || (!HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL)
                 || (!HAS_SPOT && light.kind == LIGHT_SPOT)) continue;
             if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
@@ -85,7 +85,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
             span = l;
         } else {
             uint j = i - light_count;
-            GpuEmitter em = emitters[j / WHITTED_EMITTER_SAMPLES];
+            GpuEmitter em = load_emitter(j / WHITTED_EMITTER_SAMPLES);
             vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
             vec3 b = EMITTER_SAMPLE_BARY[j % WHITTED_EMITTER_SAMPLES];
             vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;

@@ -15,7 +15,9 @@ use anyhow::Result;
 use std::time::Instant;
 use ash::vk;
 use vkrt::gpu::commands::submit_and_wait;
-use vkrt::gpu::{Buffer, Context, ContextOptions, MemoryLocation};
+use vkrt::gpu::{Buffer, Context, ContextOptions, MemoryLocation, TexelFormat};
+use vkrt::integrator::frame::INTEGRATOR_BINDINGS;
+use vkrt::integrator::path::PATH_BINDINGS;
 use vkrt::layout::constants::*;
 use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
 
@@ -31,11 +33,10 @@ fn run() -> Result<()> {
     } else {
         args.iter().map(String::as_str).collect()
     };
-    // Every binding any tracing shader declares; unused ones cost nothing.
-    let kind_of = |b: u32| match b {
-        BINDING_FRAME | BINDING_PATH_PARAMS => BindingKind::Uniform,
-        BINDING_NODES | BINDING_TRIANGLES => BindingKind::Texels,
-        _ => BindingKind::Storage,
+    // Every binding any tracing shader declares, of the kind the integrators bind (the rays and
+    // hits of trace.comp are storage buffers); unused ones cost nothing.
+    let kind_of = |b: u32| {
+        INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).find(|e| e.0 == b).map_or(BindingKind::Storage, |e| e.1)
     };
     let bindings: Vec<(u32, BindingKind)> = (0..=BINDING_UVS).map(|b| (b, kind_of(b))).collect();
     let ctx = Context::new(&ContextOptions::from_env())?;
@@ -52,7 +53,8 @@ fn run() -> Result<()> {
             let buf = Buffer::new(&ctx, "dummy", 256, usage, MemoryLocation::Device)?;
             buf.clear()?;
             // Views before buffers in the tuple: dropped first.
-            let view = if kind == BindingKind::Texels { Some(buf.texel_view()?) } else { None };
+            let format = if b == BINDING_TEXELS { TexelFormat::R32Uint } else { TexelFormat::Rgba32Uint };
+            let view = if kind == BindingKind::Texels { Some(buf.texel_view(format)?) } else { None };
             Ok((b, view, buf))
         })
         .collect::<Result<Vec<_>>>()?;

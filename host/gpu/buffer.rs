@@ -77,17 +77,17 @@ impl<'a> Buffer<'a> {
         }
     }
 
-    /// A view of the whole buffer as 16-byte RGBA32UI texels, for a `utextureBuffer`; the
-    /// buffer needs UNIFORM_TEXEL_BUFFER usage.
-    pub fn texel_view(&self) -> Result<TexelView<'a>> {
+    /// A view of the whole buffer as texels of `format`, for a `utextureBuffer`; the buffer
+    /// needs UNIFORM_TEXEL_BUFFER usage.
+    pub fn texel_view(&self, format: TexelFormat) -> Result<TexelView<'a>> {
         let info = vk::BufferViewCreateInfo::default()
             .buffer(self.buffer)
-            .format(vk::Format::R32G32B32A32_UINT)
+            .format(format.vk())
             .offset(0)
-            .range(self.size / 16 * 16);
+            .range(self.size / format.bytes() * format.bytes());
         // SAFETY: valid buffer made with texel usage (checked by the validation layers in tests).
         let view = unsafe { self.ctx.device.create_buffer_view(&info, None) }
-            .with_context(|| format!("vkCreateBufferView '{}'", self.name))?;
+            .with_context(|| format!("vkCreateBufferView '{}' ({format:?})", self.name))?;
         Ok(TexelView { ctx: self.ctx, view })
     }
 
@@ -153,6 +153,32 @@ fn copy(ctx: &Context, src: &Buffer, dst: &Buffer, len: u64) -> Result<()> {
     submit_and_wait(ctx, &format!("copy '{}' to '{}'", src.name, dst.name), |cmd| unsafe {
         ctx.device.cmd_copy_buffer(cmd, src.buffer, dst.buffer, &region);
     })
+}
+
+/// The texel formats vkrt's `utextureBuffer`s read (both must support uniform texel buffers on
+/// every Vulkan device: spec table "Mandatory format support: 32-bit components").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TexelFormat {
+    /// RGBA32UI, 16 bytes: a quarter of a GPU struct (GpuNode is 2 texels, GpuMaterial 4).
+    Rgba32Uint,
+    /// R32UI, 4 bytes: one packed RGBA8 texture texel.
+    R32Uint,
+}
+
+impl TexelFormat {
+    pub fn bytes(self) -> u64 {
+        match self {
+            TexelFormat::Rgba32Uint => 16,
+            TexelFormat::R32Uint => 4,
+        }
+    }
+
+    fn vk(self) -> vk::Format {
+        match self {
+            TexelFormat::Rgba32Uint => vk::Format::R32G32B32A32_UINT,
+            TexelFormat::R32Uint => vk::Format::R32_UINT,
+        }
+    }
 }
 
 /// A texel view of a [`Buffer`], destroyed on drop (before the buffer).

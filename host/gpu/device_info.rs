@@ -13,7 +13,7 @@ pub struct DeviceInfo {
     pub driver_info: String,
     pub driver_version: u32,
     pub max_storage_buffer_range: u32,
-    /// Most texels one texel-buffer view may hold (the BVH arrays are read as RGBA32UI texels).
+    /// Most texels one texel-buffer view may hold (the scene's arrays are read as texels).
     pub max_texel_buffer_elements: u32,
     pub max_workgroup_size: [u32; 3],
     pub max_workgroup_invocations: u32,

@@ -37,17 +37,18 @@ pub fn scene_scale(scene: &Scene) -> f32 {
     if bounds.is_empty() { 1.0 } else { bounds.min.abs().max(bounds.max.abs()).max_element().max(f32::MIN_POSITIVE) }
 }
 
-/// The bindings every integrator shader uses.
+/// The bindings every integrator shader uses: the scene's arrays are texel buffers
+/// ([`super::gpu_scene::GpuScene::bind_scene`]).
 pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_NODES, BindingKind::Texels),
     (BINDING_TRIANGLES, BindingKind::Texels),
-    (BINDING_SHADING, BindingKind::Storage),
-    (BINDING_MATERIALS, BindingKind::Storage),
-    (BINDING_LIGHTS, BindingKind::Storage),
-    (BINDING_EMITTERS, BindingKind::Storage),
-    (BINDING_TEXTURES, BindingKind::Storage),
-    (BINDING_TEXELS, BindingKind::Storage),
-    (BINDING_UVS, BindingKind::Storage),
+    (BINDING_SHADING, BindingKind::Texels),
+    (BINDING_MATERIALS, BindingKind::Texels),
+    (BINDING_LIGHTS, BindingKind::Texels),
+    (BINDING_EMITTERS, BindingKind::Texels),
+    (BINDING_TEXTURES, BindingKind::Texels),
+    (BINDING_TEXELS, BindingKind::Texels),
+    (BINDING_UVS, BindingKind::Texels),
     (BINDING_FRAME, BindingKind::Uniform),
     (BINDING_ACCUM, BindingKind::Storage),
 ];

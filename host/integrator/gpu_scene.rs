@@ -1,7 +1,7 @@
 //! A scene uploaded to the GPU: BVH arrays plus shading data, ready to bind.
 
 use crate::bvh::{self, BuildConfig, BuilderKind};
-use crate::gpu::{Buffer, Context, TexelView};
+use crate::gpu::{Context, TexelArray, TexelFormat};
 use crate::layout::compact::QuantGrid;
 use crate::layout::flatten::{flatten_as, FlatBvh};
 use crate::layout::{GpuPush, LayoutKind};
@@ -10,7 +10,6 @@ use crate::layout::scene_buffers::SceneBuffers;
 use crate::layout::texture_atlas::{TextureAtlas, TEXEL_BUDGET_BYTES};
 use crate::scene::Scene;
 use anyhow::{Context as _, Result};
-use ash::vk;
 
 /// How long building and uploading took, for reports.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -45,20 +44,19 @@ impl PreparedScene {
     }
 }
 
-/// The scene's buffers on the device.
+/// The scene's arrays on the device. All of them are read at per-lane indices (a ray's node, a
+/// hit's triangle and material, a sampled light), so all are texel buffers; see
+/// shaders/include/scene_bindings.glsl for why.
 pub struct GpuScene<'a> {
-    // Views first: they are dropped before the buffers they view.
-    pub node_texels: TexelView<'a>,
-    pub triangle_texels: TexelView<'a>,
-    pub nodes: Buffer<'a>,
-    pub triangles: Buffer<'a>,
-    pub shading: Buffer<'a>,
-    pub materials: Buffer<'a>,
-    pub lights: Buffer<'a>,
-    pub emitters: Buffer<'a>,
-    pub textures: Buffer<'a>,
-    pub texels: Buffer<'a>,
-    pub uvs: Buffer<'a>,
+    pub nodes: TexelArray<'a>,
+    pub triangles: TexelArray<'a>,
+    pub shading: TexelArray<'a>,
+    pub materials: TexelArray<'a>,
+    pub lights: TexelArray<'a>,
+    pub emitters: TexelArray<'a>,
+    pub textures: TexelArray<'a>,
+    pub texels: TexelArray<'a>,
+    pub uvs: TexelArray<'a>,
     pub light_count: u32,
     pub emitter_count: u32,
     pub triangle_count: u32,
@@ -72,9 +70,9 @@ pub struct GpuScene<'a> {
 }
 
 impl<'a> GpuScene<'a> {
-    /// The scene's storage buffers by binding number, for every integrator shader; the BVH
-    /// texel buffers are bound by [`GpuScene::bind_bvh`].
-    pub fn bindings(&self) -> [(u32, &Buffer<'a>); 7] {
+    /// The scene's shading arrays by binding number (texel buffers, like the BVH's, which
+    /// [`GpuScene::bind_bvh`] binds).
+    pub fn bindings(&self) -> [(u32, &TexelArray<'a>); 7] {
         use crate::layout::constants::*;
         [
             (BINDING_SHADING, &self.shading),
@@ -100,47 +98,35 @@ impl<'a> GpuScene<'a> {
     /// Binds the BVH node and triangle texel buffers (BINDING_NODES, BINDING_TRIANGLES).
     pub fn bind_bvh(&self, pipeline: &ComputePipeline) -> Result<()> {
         use crate::layout::constants::{BINDING_NODES, BINDING_TRIANGLES};
-        pipeline.bind_texels(BINDING_NODES, &self.node_texels)?;
-        pipeline.bind_texels(BINDING_TRIANGLES, &self.triangle_texels)
+        pipeline.bind_texels(BINDING_NODES, &self.nodes.view)?;
+        pipeline.bind_texels(BINDING_TRIANGLES, &self.triangles.view)
     }
 
-    pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        // Per-binding limits: storage buffers by byte range, the BVH's texel buffers by texel
-        // count (16-byte RGBA32UI texels).
-        let storage_limit = ctx.info.max_storage_buffer_range as usize;
-        let texel_limit = ctx.info.max_texel_buffer_elements as usize * 16;
-        let check = |name: &str, bytes: usize, limit: usize, kind: &str| -> Result<()> {
-            if bytes > limit {
-                anyhow::bail!("the scene's {name} take {} MiB, over this device's {} MiB {kind} limit", bytes >> 20, limit >> 20);
-            }
-            Ok(())
-        };
-        let b = &prepared.buffers;
-        check("BVH nodes", prepared.flat.node_bytes().len(), texel_limit, "texel-buffer")?;
-        check("triangles", std::mem::size_of_val(prepared.flat.triangles.as_slice()), texel_limit, "texel-buffer")?;
-        check("shading data", std::mem::size_of_val(b.shading.as_slice()), storage_limit, "storage-buffer")?;
-        check("texels", std::mem::size_of_val(prepared.atlas.texels.as_slice()), storage_limit, "storage-buffer")?;
-        check("texture coordinates", std::mem::size_of_val(b.uvs.as_slice()), storage_limit, "storage-buffer")?;
-        // Unused bindings still need a buffer: one zero element stands in for an empty array.
-        fn or_one<T: bytemuck::Pod>(v: &[T]) -> std::borrow::Cow<'_, [T]> {
-            if v.is_empty() { vec![T::zeroed()].into() } else { v.into() }
+    /// Binds everything of the scene an integrator shader reads: the BVH and [`Self::bindings`].
+    pub fn bind_scene(&self, pipeline: &ComputePipeline) -> Result<()> {
+        self.bind_bvh(pipeline)?;
+        for (binding, array) in self.bindings() {
+            pipeline.bind_texels(binding, &array.view).with_context(|| format!("binding {binding}"))?;
         }
-        let texels = storage | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
-        let nodes = Buffer::with_data(ctx, "bvh nodes", prepared.flat.node_bytes(), texels)?;
-        let triangles = Buffer::with_data(ctx, "triangles", &prepared.flat.triangles, texels)?;
+        Ok(())
+    }
+
+    /// Uploads `prepared`; fails, naming the array, if one holds more texels than the device
+    /// lets a texel buffer address.
+    pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
+        use TexelFormat::{R32Uint, Rgba32Uint};
+        let b = &prepared.buffers;
         Ok(Self {
-            node_texels: nodes.texel_view()?,
-            triangle_texels: triangles.texel_view()?,
-            nodes,
-            triangles,
-            shading: Buffer::with_data(ctx, "shading", &b.shading, storage)?,
-            materials: Buffer::with_data(ctx, "materials", &b.materials, storage)?,
-            lights: Buffer::with_data(ctx, "lights", &b.lights, storage)?,
-            emitters: Buffer::with_data(ctx, "emitters", &b.emitters, storage)?,
-            textures: Buffer::with_data(ctx, "texture table", &or_one(&prepared.atlas.table), storage)?,
-            texels: Buffer::with_data(ctx, "texels", &or_one(&prepared.atlas.texels), storage)?,
-            uvs: Buffer::with_data(ctx, "texture coordinates", &or_one(&b.uvs), storage)?,
+            nodes: TexelArray::with_data(ctx, "BVH nodes", prepared.flat.node_bytes(), Rgba32Uint)?,
+            triangles: TexelArray::with_data(ctx, "triangles", &prepared.flat.triangles, Rgba32Uint)?,
+            shading: TexelArray::with_data(ctx, "shading data", &b.shading, Rgba32Uint)?,
+            materials: TexelArray::with_data(ctx, "materials", &b.materials, Rgba32Uint)?,
+            lights: TexelArray::with_data(ctx, "lights", &b.lights, Rgba32Uint)?,
+            emitters: TexelArray::with_data(ctx, "emitters", &b.emitters, Rgba32Uint)?,
+            textures: TexelArray::with_data(ctx, "texture table", &prepared.atlas.table, Rgba32Uint)?,
+            // One packed RGBA8 texel per R32UI texel, decoded in the shader as before.
+            texels: TexelArray::with_data(ctx, "texels", &prepared.atlas.texels, R32Uint)?,
+            uvs: TexelArray::with_data(ctx, "texture coordinates", &b.uvs, Rgba32Uint)?,
             light_count: b.lights.len() as u32,
             emitter_count: b.emitters.len() as u32,
             triangle_count: prepared.flat.triangles.len() as u32,

@@ -7,7 +7,7 @@ use super::gpu_scene::GpuScene;
 use super::light_table::LightTable;
 use super::tiles::{bind_all, dispatch_samples};
 use super::{RenderSettings, RenderStats};
-use crate::gpu::{Buffer, Context, MemoryLocation};
+use crate::gpu::{Buffer, Context, MemoryLocation, TexelArray, TexelFormat};
 use crate::layout::constants::*;
 use crate::layout::scene_buffers::SceneBuffers;
 use crate::layout::{GpuFrame, GpuPathParams, GpuPush};
@@ -107,8 +107,9 @@ pub struct Hooks<'h> {
     pub interrupt: Option<&'h std::sync::atomic::AtomicBool>,
 }
 
-const PATH_BINDINGS: &[(u32, BindingKind)] = &[
-    (BINDING_LIGHT_PICKS, BindingKind::Storage),
+/// The path tracer's bindings besides [`INTEGRATOR_BINDINGS`].
+pub const PATH_BINDINGS: &[(u32, BindingKind)] = &[
+    (BINDING_LIGHT_PICKS, BindingKind::Texels),
     (BINDING_PATH_PARAMS, BindingKind::Uniform),
     (BINDING_ACCUM_EVEN, BindingKind::Storage),
 ];
@@ -182,7 +183,8 @@ pub fn render(
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let frame_buf = Buffer::with_data(ctx, "frame", std::slice::from_ref(&frame), uniform)?;
     let params_buf = Buffer::with_data(ctx, "path params", std::slice::from_ref(&params), uniform)?;
-    let picks = Buffer::with_data(ctx, "light picks", &table.picks, storage)?;
+    // Read at a per-lane index, so a texel buffer like the scene's arrays.
+    let picks = TexelArray::with_data(ctx, "light picks", &table.picks, TexelFormat::Rgba32Uint)?;
     let pixels = img.width as u64 * img.height as u64;
     let sum_buf = Buffer::new(ctx, "accumulation", pixels * 16, storage, MemoryLocation::Device)?;
     let even_buf = Buffer::new(ctx, "accumulation (even samples)", pixels * 16, storage, MemoryLocation::Device)?;
@@ -199,14 +201,13 @@ pub fn render(
         std::mem::size_of::<GpuPush>() as u32,
         &features.spec_constants(),
     )?;
-    bind_all(&pipeline, &gpu.bindings())?;
-    gpu.bind_bvh(&pipeline)?;
+    gpu.bind_scene(&pipeline)?;
+    pipeline.bind_texels(BINDING_LIGHT_PICKS, &picks.view)?;
     bind_all(
         &pipeline,
         &[
             (BINDING_FRAME, &frame_buf),
             (BINDING_ACCUM, &sum_buf),
-            (BINDING_LIGHT_PICKS, &picks),
             (BINDING_PATH_PARAMS, &params_buf),
             (BINDING_ACCUM_EVEN, &even_buf),
         ],

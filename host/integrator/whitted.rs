@@ -50,8 +50,7 @@ pub fn render(
         std::mem::size_of::<GpuPush>() as u32,
         &features.spec_constants(),
     )?;
-    bind_all(&pipeline, &gpu.bindings())?;
-    gpu.bind_bvh(&pipeline)?;
+    gpu.bind_scene(&pipeline)?;
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);
     let batches = settings.spp.div_ceil(batch);

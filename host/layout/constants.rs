@@ -13,9 +13,11 @@ macro_rules! shared_constants {
 }
 
 shared_constants! {
-    // Descriptor set 0 bindings. Each is one storage buffer (or uniform buffer for FRAME),
-    // except the BVH arrays: RGBA32UI uniform texel buffers (shaders/include/bvh_bindings.glsl
-    // says why), which the layout probe declares as struct arrays to check their layout.
+    // Descriptor set 0 bindings. The arrays the integrators read (BVH, shading data, textures,
+    // light picks) are uniform texel buffers, RGBA32UI except TEXELS (R32UI)
+    // (shaders/include/bvh_bindings.glsl and scene_bindings.glsl say why), which the layout
+    // probe declares as struct arrays to check their layout; FRAME and PATH_PARAMS are uniform
+    // buffers; the rest storage buffers.
     /// Flattened BVH nodes (`GpuNode[]`, 2 texels each).
     BINDING_NODES = 0;
     /// Triangles in leaf order (`GpuTriangle[]`, 3 texels each).
@@ -51,6 +53,8 @@ shared_constants! {
     BINDING_TEXELS = 14;
     /// Per-primitive texture coordinates by primitive id (`GpuUv[]`).
     BINDING_UVS = 15;
+    /// First of the ten outputs of the texel-decode test probe (shaders/test/texel_decode_probe.comp).
+    BINDING_DECODE_OUT = 16;
 
     /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
     /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).

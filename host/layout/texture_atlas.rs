@@ -1,13 +1,16 @@
-//! All of a scene's textures in two storage buffers: a table (`GpuTexture[]`) and one array of
-//! packed RGBA8 texels, textures one after another. Two bindings hold any number of textures,
-//! with no descriptor-array limits to meet (lavapipe, MoltenVK and old drivers differ there).
+//! All of a scene's textures in two buffers: a table (`GpuTexture[]`) and one array of packed
+//! RGBA8 texels, textures one after another. Two bindings hold any number of textures, with no
+//! descriptor-array limits to meet (lavapipe, MoltenVK and old drivers differ there). The shaders
+//! read both as texel buffers (shaders/include/scene_bindings.glsl), the texels as R32UI.
 
 use super::constants::TEXTURE_NONE;
 use super::GpuTexture;
 use crate::scene::Texture;
 
-/// The most texel bytes one storage-buffer binding may hold on every Vulkan device: the
-/// guaranteed minimum of `maxStorageBufferRange` (2^27 bytes, 128 MiB), which is also lavapipe's.
+/// The most texel bytes the atlas may take: 128 MiB, what one storage-buffer binding holds on
+/// every Vulkan device, from when the texels were one. As R32UI texels that is 2^25 texels, well
+/// inside `maxTexelBufferElements` on lavapipe and desktop GPUs (2^27 or more); `GpuScene::upload`
+/// refuses a device whose limit is lower, naming the texels.
 pub const TEXEL_BUDGET_BYTES: usize = 1 << 27;
 
 /// The texture table and the texels, ready to upload.

@@ -12,7 +12,7 @@ const float ALPHA_CUTOFF = 0.2;
 // True if the hit at barycentrics (u, v) of primitive prim is opaque.
 bool alpha_passes(uint prim, float u, float v) {
     if (!HAS_ALPHA) return true;
-    GpuMaterial m = materials[shading[prim].material];
+    GpuMaterial m = load_material(load_shading(prim).material);
     if ((m.flags & MATERIAL_ALPHA) == 0u) return true;
     return texture_uv(m.alpha_texture, uv_at(prim, u, v), false).a >= ALPHA_CUTOFF;
 }

@@ -12,7 +12,8 @@
 //   the profile showed as the hottest instructions of both trace and path shaders.
 // On GPUs texel fetches go through the texture cache, a fine path for read-only data.
 // The decode assumes the std430 layouts of GpuNode / GpuParentNode (32 B: bmin, link, bmax,
-// leaf), GpuCompactNode (16 B: four words) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad); tests/layout.rs pins both, and the
+// leaf), GpuCompactNode (16 B: four words) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad);
+// tests/layout.rs pins them, tests/texel_decode.rs checks the decode field by field, and the
 // GPU agreement tests (tests/traversal.rs) would see any misread field.
 // Needs GL_EXT_samplerless_texture_functions (enabled by each .comp).
 #ifndef VKRT_BVH_BINDINGS_GLSL

@@ -4,14 +4,14 @@
 #ifndef VKRT_LIGHTS_GLSL
 #define VKRT_LIGHTS_GLSL
 
-// Entry j of the table with probability light_picks[j].pmf (Vose 1991).
+// Entry j of the table with probability load_light_pick(j).pmf (Vose 1991).
 uint pick_light(float u, out float pmf) {
     uint n = params.pick_count;
     float x = u * float(n);
     uint i = min(uint(x), n - 1u);
-    GpuLightPick e = light_picks[i];
+    GpuLightPick e = load_light_pick(i);
     uint j = (x - float(i)) < e.threshold ? i : e.alias;
-    pmf = light_picks[j].pmf;
+    pmf = load_light_pick(j).pmf;
     return j;
 }
 
@@ -45,7 +45,7 @@ bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls)
     uint j = pick_light(u_pick, pmf);
     if (pmf <= 0.0) return false;
     if (HAS_EMITTERS && j < frame.emitter_count) {
-        GpuEmitter em = emitters[j];
+        GpuEmitter em = load_emitter(j);
         vec3 b = sample_triangle_bary(u);
         vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
         vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
@@ -63,7 +63,7 @@ bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls)
         return true;
     }
     if (!(HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT)) return false;
-    GpuLight light = lights[j - frame.emitter_count];
+    GpuLight light = load_light(j - frame.emitter_count);
     if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
         // Irradiance `intensity` on a surface facing the light.
         ls.wi = light.direction;

@@ -2,9 +2,20 @@
 #ifndef VKRT_PATH_BINDINGS_GLSL
 #define VKRT_PATH_BINDINGS_GLSL
 
-layout(std430, set = 0, binding = BINDING_LIGHT_PICKS) readonly buffer LightPicks { GpuLightPick light_picks[]; };
 layout(std140, set = 0, binding = BINDING_PATH_PARAMS) uniform PathParams { GpuPathParams params; };
 // rgb: radiance sum of the even-indexed samples; w unused.
 layout(std430, set = 0, binding = BINDING_ACCUM_EVEN) buffer AccumEven { vec4 accum_even[]; };
+
+#ifndef LAYOUT_PROBE
+// The light-selection table is read at a per-lane index: an RGBA32UI texel buffer, as the
+// scene arrays (scene_bindings.glsl says why).
+layout(set = 0, binding = BINDING_LIGHT_PICKS) uniform utextureBuffer light_pick_texels;
+
+// 16 B: pmf, alias, threshold, pad.
+GpuLightPick load_light_pick(uint i) {
+    uvec4 a = texelFetch(light_pick_texels, int(i));
+    return GpuLightPick(uintBitsToFloat(a.x), a.y, uintBitsToFloat(a.z), 0u);
+}
+#endif
 
 #endif

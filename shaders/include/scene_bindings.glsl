@@ -1,15 +1,85 @@
-// The scene buffers the integrators read besides the BVH.
+// The scene arrays the integrators read besides the BVH, and the frame uniform.
+//
+// The arrays are uniform texel buffers read with texelFetch, like the BVH's and for the same
+// reason (bvh_bindings.glsl; BENCHMARKS.md, "Loads on lavapipe"): lavapipe loads a storage
+// buffer at a per-lane index one lane and one dword at a time behind branches, a texel fetch
+// with one vector load per lane. The structs are RGBA32UI texels, and each load_* decodes one
+// from consecutive texels in the std430 field order of layout.glsl (float fields bit-cast,
+// padding read as 0). tests/layout.rs checks that order against Rust through the layout probe,
+// which declares these bindings as struct arrays; tests/texel_decode.rs runs every load_* on
+// uploaded arrays and checks each field. The texture atlas's texels are R32UI, one packed RGBA8
+// texel each as before: `unpackUnorm4x8` still decodes them, bit for bit (an RGBA8 view would
+// leave the unorm conversion to the driver).
+// A fetch none of whose fields the caller reads is dead code once inlined, and compilers drop it.
+// Needs GL_EXT_samplerless_texture_functions (enabled by each .comp).
 #ifndef VKRT_SCENE_BINDINGS_GLSL
 #define VKRT_SCENE_BINDINGS_GLSL
 #include "bvh_bindings.glsl"
 
-layout(std430, set = 0, binding = BINDING_SHADING) readonly buffer Shading { GpuShading shading[]; };
-layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
-layout(std430, set = 0, binding = BINDING_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, set = 0, binding = BINDING_EMITTERS) readonly buffer Emitters { GpuEmitter emitters[]; };
-layout(std430, set = 0, binding = BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
-layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer Texels { uint texels[]; };
-layout(std430, set = 0, binding = BINDING_UVS) readonly buffer Uvs { GpuUv uvs[]; };
 layout(std140, set = 0, binding = BINDING_FRAME) uniform Frame { GpuFrame frame; };
+
+#ifndef LAYOUT_PROBE
+layout(set = 0, binding = BINDING_SHADING) uniform utextureBuffer shading_texels;
+layout(set = 0, binding = BINDING_MATERIALS) uniform utextureBuffer material_texels;
+layout(set = 0, binding = BINDING_LIGHTS) uniform utextureBuffer light_texels;
+layout(set = 0, binding = BINDING_EMITTERS) uniform utextureBuffer emitter_texels;
+layout(set = 0, binding = BINDING_TEXTURES) uniform utextureBuffer texture_texels;
+layout(set = 0, binding = BINDING_TEXELS) uniform utextureBuffer atlas_texels;
+layout(set = 0, binding = BINDING_UVS) uniform utextureBuffer uv_texels;
+
+// 48 B: n0, material | n1, pad | n2, pad.
+GpuShading load_shading(uint i) {
+    uvec4 a = texelFetch(shading_texels, int(3u * i));
+    uvec4 b = texelFetch(shading_texels, int(3u * i + 1u));
+    uvec4 c = texelFetch(shading_texels, int(3u * i + 2u));
+    return GpuShading(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), 0u, uintBitsToFloat(c.xyz), 0u);
+}
+
+// 64 B: diffuse, flags | specular, shininess | emission, ior | diffuse_texture, alpha_texture, pad, pad.
+GpuMaterial load_material(uint i) {
+    uvec4 a = texelFetch(material_texels, int(4u * i));
+    uvec4 b = texelFetch(material_texels, int(4u * i + 1u));
+    uvec4 c = texelFetch(material_texels, int(4u * i + 2u));
+    uvec4 d = texelFetch(material_texels, int(4u * i + 3u));
+    return GpuMaterial(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                       uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), d.x, d.y, 0u, 0u);
+}
+
+// 48 B: position, kind | direction, radius | intensity, pad.
+GpuLight load_light(uint i) {
+    uvec4 a = texelFetch(light_texels, int(3u * i));
+    uvec4 b = texelFetch(light_texels, int(3u * i + 1u));
+    uvec4 c = texelFetch(light_texels, int(3u * i + 2u));
+    return GpuLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w), uintBitsToFloat(c.xyz), 0u);
+}
+
+// 64 B: v0, prim | v1, area | v2, pad | radiance, pad.
+GpuEmitter load_emitter(uint i) {
+    uvec4 a = texelFetch(emitter_texels, int(4u * i));
+    uvec4 b = texelFetch(emitter_texels, int(4u * i + 1u));
+    uvec4 c = texelFetch(emitter_texels, int(4u * i + 2u));
+    uvec4 d = texelFetch(emitter_texels, int(4u * i + 3u));
+    return GpuEmitter(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                      uintBitsToFloat(c.xyz), 0u, uintBitsToFloat(d.xyz), 0u);
+}
+
+// 16 B: offset, width, height, pad.
+GpuTexture load_texture(uint i) {
+    uvec4 a = texelFetch(texture_texels, int(i));
+    return GpuTexture(a.x, a.y, a.z, 0u);
+}
+
+// Texel i of the atlas: packed RGBA8, red in the low byte.
+uint load_atlas_texel(uint i) {
+    return texelFetch(atlas_texels, int(i)).x;
+}
+
+// 32 B: uv0, uv1 | uv2, pad, pad.
+GpuUv load_uv(uint i) {
+    uvec4 a = texelFetch(uv_texels, int(2u * i));
+    uvec4 b = texelFetch(uv_texels, int(2u * i + 1u));
+    return GpuUv(uintBitsToFloat(a.xy), uintBitsToFloat(a.zw), uintBitsToFloat(b.xy), 0u, 0u);
+}
+#endif
 
 #endif

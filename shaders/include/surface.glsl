@@ -16,7 +16,7 @@ struct Surface {
 
 Surface surface_at(Hit h, vec3 dir) {
     GpuTriangle tri = load_triangle(h.slot);
-    GpuShading sh = shading[h.prim];
+    GpuShading sh = load_shading(h.prim);
     Surface s;
     float w = 1.0 - h.u - h.v;
     // The barycentric point is on the triangle's plane to float precision, unlike origin + t*dir,
@@ -36,7 +36,7 @@ Surface surface_at(Hit h, vec3 dir) {
 
 // The material at a hit, its diffuse colour replaced by the texture's there if it has one.
 GpuMaterial material_at(Hit h, Surface s) {
-    GpuMaterial m = materials[s.material];
+    GpuMaterial m = load_material(s.material);
     if (HAS_TEXTURES && m.diffuse_texture != TEXTURE_NONE) {
         m.diffuse = texture_uv(m.diffuse_texture, uv_at(h.prim, h.u, h.v), true).rgb;
     }

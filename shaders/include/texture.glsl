@@ -7,14 +7,14 @@
 #define VKRT_TEXTURE_GLSL
 
 vec4 texel_at(GpuTexture tex, uint x, uint y, bool srgb) {
-    vec4 c = unpackUnorm4x8(texels[tex.offset + y * tex.width + x]);
+    vec4 c = unpackUnorm4x8(load_atlas_texel(tex.offset + y * tex.width + x));
     if (srgb) c.rgb = pow(c.rgb, vec3(2.2));
     return c;
 }
 
 // Bilinear lookup at p, in texels (texel centres at +0.5). `wrap`: repeat, else clamp to edge.
 vec4 texture_bilinear(uint index, vec2 p, bool wrap, bool srgb) {
-    GpuTexture tex = textures[index];
+    GpuTexture tex = load_texture(index);
     ivec2 size = ivec2(tex.width, tex.height);
     vec2 q = p - 0.5;
     vec2 base = floor(q);
@@ -38,14 +38,14 @@ vec4 texture_bilinear(uint index, vec2 p, bool wrap, bool srgb) {
 
 // A surface texture at texture coordinates uv (repeat wrapping: only the fraction counts).
 vec4 texture_uv(uint index, vec2 uv, bool srgb) {
-    GpuTexture tex = textures[index];
+    GpuTexture tex = load_texture(index);
     vec2 st = vec2(fract(uv.x), 1.0 - fract(uv.y));
     return texture_bilinear(index, st * vec2(tex.width, tex.height), true, srgb);
 }
 
 // Texture coordinates at barycentrics (u, v) of primitive prim.
 vec2 uv_at(uint prim, float u, float v) {
-    GpuUv t = uvs[prim];
+    GpuUv t = load_uv(prim);
     return (1.0 - u - v) * t.uv0 + u * t.uv1 + v * t.uv2;
 }
 
@@ -74,7 +74,7 @@ vec3 sky_radiance(vec3 d) {
         tc = -d.y;
     }
     uint index = frame.sky_texture + face;
-    GpuTexture tex = textures[index];
+    GpuTexture tex = load_texture(index);
     vec2 st = 0.5 * (vec2(sc, tc) / max(ma, 1e-30) + 1.0);
     return frame.sky_color * texture_bilinear(index, st * vec2(tex.width, tex.height), false, true).rgb;
 }

@@ -2,7 +2,8 @@
 // Declares every GPU struct and binding so tests/layout.rs can read their offsets, sizes,
 // strides and binding numbers from one SPIR-V module. Never dispatched.
 #extension GL_GOOGLE_include_directive : require
-// The BVH bindings are texel buffers in the real shaders; here they are struct arrays.
+// The BVH, scene and light-pick bindings are texel buffers in the real shaders; here they are
+// struct arrays.
 #define LAYOUT_PROBE
 
 #include "scene_bindings.glsl"
@@ -10,10 +11,19 @@
 
 layout(local_size_x = 1) in;
 
-// The BVH arrays are texel buffers in the shaders (bvh_bindings.glsl); declared as blocks here
-// only so their structs' offsets and strides can be read back.
+// These arrays are texel buffers in the shaders (bvh_bindings.glsl, scene_bindings.glsl,
+// path_bindings.glsl), decoded field by field in std430 order; declared as blocks here only so
+// their structs' offsets and strides can be read back.
 layout(std430, set = 0, binding = BINDING_NODES) readonly buffer Nodes { BVH_NODE nodes[]; };
 layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
+layout(std430, set = 0, binding = BINDING_SHADING) readonly buffer Shading { GpuShading shading[]; };
+layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, set = 0, binding = BINDING_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, set = 0, binding = BINDING_EMITTERS) readonly buffer Emitters { GpuEmitter emitters[]; };
+layout(std430, set = 0, binding = BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
+layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer Texels { uint texels[]; };
+layout(std430, set = 0, binding = BINDING_UVS) readonly buffer Uvs { GpuUv uvs[]; };
+layout(std430, set = 0, binding = BINDING_LIGHT_PICKS) readonly buffer LightPicks { GpuLightPick light_picks[]; };
 
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
