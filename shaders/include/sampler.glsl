@@ -66,24 +66,43 @@ float u32_to_unit(uint x) {
     return float(x >> 8u) * (1.0 / 16777216.0);
 }
 
-// The next two dimensions. Sobol: each pair of dimensions is its own Owen-scrambled 2D Sobol
-// sequence, its sample order shuffled by a scramble of the index (Burley 2020, section 4:
-// "padding" by shuffling), so that pairs are decorrelated from each other and from neighbouring pixels.
+// Sobol: each pair of dimensions is its own Owen-scrambled 2D Sobol sequence, its sample order
+// shuffled by a scramble of the index (Burley 2020, section 4: "padding" by shuffling), so that
+// pairs are decorrelated from each other and from neighbouring pixels. These return the
+// pair's seed and its shuffled index.
+uint sobol_pair_seed(Sampler s, uint d) {
+    return hash_pcg(s.pixel_seed ^ hash_pcg(d + 0x68bc21ebu));
+}
+
+// The pair's first dimension: the Owen-scrambled radical inverse of the index, written as
+// owen_scramble(bitfieldReverse(i)) = bitfieldReverse(lk_permutation(i)).
+float sobol_first(uint index, uint h) {
+    return u32_to_unit(bitfieldReverse(lk_permutation(index, hash_pcg(h ^ 0xa511e9b3u))));
+}
+
+// The next two dimensions.
 vec2 sampler_2d(inout Sampler s) {
     uint d = s.dim++;
     if (s.kind == SAMPLER_SOBOL) {
-        uint h = hash_pcg(s.pixel_seed ^ hash_pcg(d + 0x68bc21ebu));
+        uint h = sobol_pair_seed(s, d);
         uint index = owen_scramble(s.index, h);
-        uint x = bitfieldReverse(index);
-        uint y = sobol_dim1(index);
-        return vec2(u32_to_unit(owen_scramble(x, hash_pcg(h ^ 0xa511e9b3u))),
-                    u32_to_unit(owen_scramble(y, hash_pcg(h ^ 0x63d83595u))));
+        return vec2(sobol_first(index, h), u32_to_unit(owen_scramble(sobol_dim1(index), hash_pcg(h ^ 0x63d83595u))));
     }
     return vec2(rng_next(s.rng), rng_next(s.rng));
 }
 
+// The first of the next two dimensions, as sampler_2d(s).x but without computing the second
+// (three of the path tracer's five draws per bounce are 1D).
 float sampler_1d(inout Sampler s) {
-    return sampler_2d(s).x;
+    uint d = s.dim++;
+    if (s.kind == SAMPLER_SOBOL) {
+        uint h = sobol_pair_seed(s, d);
+        return sobol_first(owen_scramble(s.index, h), h);
+    }
+    float x = rng_next(s.rng);
+    // The independent stream still advances by two, as sampler_2d does.
+    rng_next(s.rng);
+    return x;
 }
 
 // Where in its pixel the sample lands (box filter: uniform over the pixel). Stratified: sample k
