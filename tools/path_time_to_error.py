@@ -197,6 +197,15 @@ def main():
     ax.set_ylabel("relMSE vs reference")
     ax.set_title(f"{os.path.basename(args.scene)} {args.width}x{args.height}: error vs time")
     ax.grid(True, which="both", alpha=0.3)
+    # Label decades only: minor-tick labels on a short log axis overlap.
+    from matplotlib.ticker import NullFormatter
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    # The figure of merit as guide lines: relMSE x seconds = constant is a line of slope -1.
+    xs = [min(r[2] for r in rows), max(r[2] for r in rows)]
+    for product in (0.1, 0.01):
+        ax.loglog(xs, [product / x for x in xs], ":", color="grey", linewidth=0.8)
+        ax.annotate(f"relMSE x s = {product:g}", (xs[1], product / xs[1]), fontsize=7, color="grey", ha="right", va="bottom")
     ax.legend()
     png = os.path.join(args.out, "time_to_error.png")
     fig.savefig(png, dpi=120, bbox_inches="tight")
