@@ -1,11 +1,13 @@
 //! The compact threaded BVH: the threaded layout (`flatten::threaded`, Smits 1998) with each
 //! node in 16 bytes instead of 32, so one texel fetch reads a node and a cache line holds four.
 //!
-//! Why: on lavapipe every texel fetch is a call into a JIT-compiled sampling function that
-//! spills the shader's live registers, and one extra fetch per node step costs ~7 % of a path
-//! trace (BENCHMARKS.md, "Compact nodes"); on GPUs half the node bytes is half the node
-//! bandwidth. The price: boxes are rounded outwards to a 16-bit grid over the scene, so small
-//! boxes grow by up to one grid cell per side and a ray may visit a few more nodes.
+//! Why: half the node memory (for devices where traversal is bandwidth-bound, and scenes near a
+//! binding's size limit), and one texel fetch per node instead of two: on lavapipe each fetch
+//! is a call into a JIT-compiled function, ~7 % of a path trace per extra fetch per node step.
+//! The price: boxes are rounded outwards to a 16-bit grid over the scene, so small boxes grow
+//! by up to one grid cell per side (on the shared scenes rays visit within 0.1 node of the
+//! threaded layout), and decoding a box costs ~30 instructions. Measured on lavapipe the decode
+//! outweighs the saved fetch: 10-20 % slower than threaded (BENCHMARKS.md, "Per-step cost").
 //!
 //! Encoding (`GpuCompactNode`): the box corners as 16-bit cell indices of a per-scene grid,
 //! `corner = origin + q * scale` (the grid goes to the shader in the push constants), and one
@@ -19,13 +21,13 @@
 //! corner lies outside the true box in float arithmetic, so every decoded box contains its
 //! node's box and traversal still finds the closest hit. Shader: traverse_compact.glsl.
 
-use super::constants::{COMPACT_LEAF_FLAG as LEAF_FLAG, LEAF_COUNT_BITS, NODE_NONE};
+use super::constants::{COMPACT_CELL_BITS, COMPACT_LEAF_FLAG as LEAF_FLAG, LEAF_COUNT_BITS, NODE_NONE};
 use super::cpu_trace::{intersect_box, leaf_count, miss, test_leaf, RayPre};
 use super::{GpuCompactNode, GpuHit, GpuNode, GpuRay, GpuTriangle};
 use glam::Vec3;
 
-/// The largest cell index: 16 bits per corner coordinate.
-const CELLS: u32 = 0xFFFF;
+/// The largest cell index.
+const CELLS: u32 = (1 << COMPACT_CELL_BITS) - 1;
 
 /// The grid the corners are quantised to: cell `q` on an axis decodes to `origin + q * scale`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -93,12 +95,12 @@ impl GpuCompactNode {
     /// The 16-bit cell indices of the box: min x, y, z, max x, y, z.
     pub fn cells(&self) -> [u32; 6] {
         [
-            self.min_xy & 0xFFFF,
-            self.min_xy >> 16,
-            self.min_z_max_x & 0xFFFF,
-            self.min_z_max_x >> 16,
-            self.max_yz & 0xFFFF,
-            self.max_yz >> 16,
+            self.min_xy & CELLS,
+            self.min_xy >> COMPACT_CELL_BITS,
+            self.min_z_max_x & CELLS,
+            self.min_z_max_x >> COMPACT_CELL_BITS,
+            self.max_yz & CELLS,
+            self.max_yz >> COMPACT_CELL_BITS,
         ]
     }
 
@@ -137,7 +139,8 @@ pub fn from_threaded(nodes: &[GpuNode]) -> anyhow::Result<(Vec<GpuCompactNode>, 
             };
             let lo = [0, 1, 2].map(|a| grid.cell_below(n.bmin[a], a));
             let hi = [0, 1, 2].map(|a| grid.cell_above(n.bmax[a], a));
-            Ok(GpuCompactNode { min_xy: lo[0] | lo[1] << 16, min_z_max_x: lo[2] | hi[0] << 16, max_yz: hi[1] | hi[2] << 16, link })
+            let pack = |low: u32, high: u32| low | high << COMPACT_CELL_BITS;
+            Ok(GpuCompactNode { min_xy: pack(lo[0], lo[1]), min_z_max_x: pack(lo[2], hi[0]), max_yz: pack(hi[1], hi[2]), link })
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     Ok((compact, grid))

@@ -69,6 +69,8 @@ shared_constants! {
     NODE_NONE = 0xFFFF_FFFF;
     /// Marks a leaf in `GpuCompactNode::link` (host/layout/compact.rs).
     COMPACT_LEAF_FLAG = 0x8000_0000;
+    /// Bits per box-corner cell index in `GpuCompactNode`: two cells per u32.
+    COMPACT_CELL_BITS = 16;
     /// Primitive id of a miss.
     PRIM_NONE = 0xFFFF_FFFF;
 

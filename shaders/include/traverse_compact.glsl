@@ -15,6 +15,7 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin);
     Hit hit = hit_none();
     uint count = node_count();
+    const uint cell_mask = (1u << COMPACT_CELL_BITS) - 1u;
     // Read once: on lavapipe each push-constant read in the loop is a bounds-checked load.
     vec3 grid_origin = push.grid_origin;
     vec3 grid_scale = push.grid_scale;
