@@ -54,13 +54,14 @@ pub fn render(
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);
     let batches = settings.spp.div_ceil(batch);
+    let scene_push = gpu.push();
     let total = tile_count(settings) * batches as u64;
     let mut done = 0u64;
     // Sample batches outermost, so that a long render refines the whole image evenly.
     for b in 0..batches {
         let sample_base = b * batch;
         let sample_count = batch.min(settings.spp - sample_base);
-        dispatch_samples(ctx, &gpu.push(), &pipeline, "whitted tile", settings, sample_base, sample_count, settings.spp, &mut || {
+        dispatch_samples(ctx, &scene_push, &pipeline, "whitted tile", settings, sample_base, sample_count, settings.spp, &mut || {
             stats.submissions += 1;
             done += 1;
             progress(done, total);

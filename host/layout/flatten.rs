@@ -89,11 +89,11 @@ pub const MAX_FLAT_TRIANGLES: usize = 1 << (32 - LEAF_COUNT_BITS);
 pub fn flatten_as(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind) -> anyhow::Result<FlatBvh> {
     let triangles = leaf_order_triangles(bvh, tris)?;
     let nodes = match layout {
-        LayoutKind::Threaded => FlatNodes::Threaded(threaded(bvh, |_, left, right| (left, right), 0)),
+        LayoutKind::Threaded => FlatNodes::Threaded(threaded_in_tree_order(bvh)),
         LayoutKind::MultiOrder => FlatNodes::MultiOrder(multi_order::flatten(bvh)),
         LayoutKind::ParentLink => FlatNodes::ParentLink(parent_link::flatten(bvh)?),
         LayoutKind::Compact => {
-            let (nodes, grid) = compact::from_threaded(&threaded(bvh, |_, left, right| (left, right), 0))?;
+            let (nodes, grid) = compact::from_threaded(&threaded_in_tree_order(bvh))?;
             FlatNodes::Compact(nodes, grid)
         }
     };
@@ -158,6 +158,12 @@ pub(super) fn threaded(bvh: &Bvh, order: impl Fn(usize, u32, u32) -> (u32, u32),
         nodes.push(GpuNode { bmin: node.bounds.min.to_array(), escape, bmax: node.bounds.max.to_array(), leaf });
     }
     nodes
+}
+
+/// The threaded layout with each node's children in the tree's own (left, right) order: the
+/// default layout, and the order the compact layout packs.
+fn threaded_in_tree_order(bvh: &Bvh) -> Vec<GpuNode> {
+    threaded(bvh, |_, left, right| (left, right), 0)
 }
 
 /// Node ids in depth-first pre-order, children in the order `order` gives.

@@ -25,8 +25,8 @@ uint owen_scramble(uint x, uint seed) {
 // reversal of the index (van der Corput), it forms a (0,2)-sequence.
 //
 // Closed form instead of a loop over the index's bits (which ran up to 32 times per call on a
-// scrambled index and took ~7 % of the path tracer's time, BENCHMARKS.md "Sobol without a
-// loop"): v_k is (1 + s)^k applied to the top bit, s a right shift, so the sum over the set
+// scrambled index and took ~7 % of the path tracer's time, BENCHMARKS.md "Per-step
+// cost"): v_k is (1 + s)^k applied to the top bit, s a right shift, so the sum over the set
 // bits b_k of the index is the polynomial B(t) = sum b_k t^k evaluated at t = 1 + s: a Taylor
 // shift by 1 over GF(2). Since (1 + s)^(2^m) = 1 + s^(2^m) there, it splits into halves,
 // B = L + t^(2^m) H -> L(1+s) + H(1+s) + s^(2^m) H(1+s), one shift-and-xor per level, five levels
@@ -68,8 +68,8 @@ float u32_to_unit(uint x) {
 
 // Sobol: each pair of dimensions is its own Owen-scrambled 2D Sobol sequence, its sample order
 // shuffled by a scramble of the index (Burley 2020, section 4: "padding" by shuffling), so that
-// pairs are decorrelated from each other and from neighbouring pixels. These return the
-// pair's seed and its shuffled index.
+// pairs are decorrelated from each other and from neighbouring pixels. This is the seed of
+// pair d of this pixel's sequence.
 uint sobol_pair_seed(Sampler s, uint d) {
     return hash_pcg(s.pixel_seed ^ hash_pcg(d + 0x68bc21ebu));
 }

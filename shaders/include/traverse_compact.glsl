@@ -5,9 +5,10 @@
 #ifndef VKRT_TRAVERSE_COMPACT_GLSL
 #define VKRT_TRAVERSE_COMPACT_GLSL
 
-// `precise`: a product and a sum, never fused, exactly as QuantGrid::decode computes it.
-vec3 decode_cells(uvec3 q, vec3 grid_origin, vec3 grid_scale) {
-    precise vec3 corner = grid_origin + vec3(q) * grid_scale;
+// Corners of cells q: a product and a sum, never fused (`precise`), exactly as
+// QuantGrid::decode computes them.
+vec3 decode_cells(uvec3 q) {
+    precise vec3 corner = push.grid_origin + vec3(q) * push.grid_scale;
     return corner;
 }
 
@@ -16,16 +17,13 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     Hit hit = hit_none();
     uint count = node_count();
     const uint cell_mask = (1u << COMPACT_CELL_BITS) - 1u;
-    // Read once: on lavapipe each push-constant read in the loop is a bounds-checked load.
-    vec3 grid_origin = push.grid_origin;
-    vec3 grid_scale = push.grid_scale;
     uint index = 0u;
     while (index < count) {
         GpuCompactNode node = load_node(index);
         hit.nodes_visited++;
         bool leaf = (node.link & COMPACT_LEAF_FLAG) != 0u;
-        vec3 bmin = decode_cells(uvec3(node.min_xy & 0xFFFFu, node.min_xy >> 16, node.min_z_max_x & 0xFFFFu), grid_origin, grid_scale);
-        vec3 bmax = decode_cells(uvec3(node.min_z_max_x >> 16, node.max_yz & 0xFFFFu, node.max_yz >> 16), grid_origin, grid_scale);
+        vec3 bmin = decode_cells(uvec3(node.min_xy & cell_mask, node.min_xy >> COMPACT_CELL_BITS, node.min_z_max_x & cell_mask));
+        vec3 bmax = decode_cells(uvec3(node.min_z_max_x >> COMPACT_CELL_BITS, node.max_yz & cell_mask, node.max_yz >> COMPACT_CELL_BITS));
         float t_enter;
         if (!intersect_box(r, bmin, bmax, tmax, t_enter)) {
             // A leaf's escape is the next node in pre-order.
