@@ -61,6 +61,13 @@ fn compact_node_matches_its_glsl_mirror() {
     check_node_mirror(vkrt::pipeline::shaders::LAYOUT_PROBE_COMPACT, name, size, &fields);
 }
 
+#[test]
+fn wide_node_matches_its_glsl_mirror() {
+    let (name, size, fields) =
+        rust_fields!(GpuWideNode { min_x, min_y, min_z, max_x, max_y, max_z, children, parent, info, _pad0, _pad1 });
+    check_node_mirror(vkrt::pipeline::shaders::LAYOUT_PROBE_WIDE, name, size, &fields);
+}
+
 fn spirv_structs(module: &naga::Module) -> HashMap<String, SpirvStruct> {
     let mut out = HashMap::new();
     for (_, ty) in module.types.iter() {

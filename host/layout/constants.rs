@@ -106,6 +106,14 @@ shared_constants! {
     /// Whitted ray-tree stack entries; max depth is clamped to this minus one.
     WHITTED_STACK_SIZE = 16;
 
+    /// The wide layout (`layout::wide`): children per node, and how `GpuWideNode::info` packs
+    /// a node's child count (low 3 bits), its ordering axis and its slot in its parent.
+    WIDE_ARITY = 4;
+    WIDE_INFO_AXIS_SHIFT = 3;
+    WIDE_INFO_SLOT_SHIFT = 5;
+    /// "Entered from the parent": every slot of the node is still to visit.
+    WIDE_NO_SLOT = 0xFF;
+
     /// Path tracer samplers (`GpuPathParams::sampler`).
     SAMPLER_INDEPENDENT = 0;
     /// Owen-scrambled Sobol (Burley 2020), the default.

@@ -1,10 +1,10 @@
 //! Flatten a [`Bvh`] into the arrays the shaders walk: the triangles in leaf order (shared by
 //! every layout) and the nodes of the chosen [`LayoutKind`]. The threaded layout is built here;
-//! the others live in `multi_order.rs`, `parent_link.rs` and `compact.rs`.
+//! the others live in `multi_order.rs`, `parent_link.rs`, `compact.rs` and `wide.rs`.
 
 use super::constants::{LEAF_COUNT_BITS, NODE_NONE};
 use super::compact::{self, QuantGrid};
-use super::{cpu_trace, multi_order, parent_link, GpuCompactNode, GpuHit, GpuNode, GpuParentNode, GpuRay, GpuTriangle, LayoutKind};
+use super::{cpu_trace, multi_order, parent_link, wide, GpuCompactNode, GpuHit, GpuNode, GpuParentNode, GpuRay, GpuTriangle, GpuWideNode, LayoutKind};
 use crate::bvh::{Bvh, NodeKind};
 use crate::scene::Triangle;
 
@@ -19,6 +19,8 @@ pub enum FlatNodes {
     ParentLink(Vec<GpuParentNode>),
     /// The threaded order in 16-byte nodes, and the grid their boxes are quantised to.
     Compact(Vec<GpuCompactNode>, QuantGrid),
+    /// 4-ary nodes, depth first.
+    Wide(Vec<GpuWideNode>),
 }
 
 impl Default for FlatNodes {
@@ -42,6 +44,7 @@ impl FlatBvh {
             FlatNodes::MultiOrder(_) => LayoutKind::MultiOrder,
             FlatNodes::ParentLink(_) => LayoutKind::ParentLink,
             FlatNodes::Compact(..) => LayoutKind::Compact,
+            FlatNodes::Wide(_) => LayoutKind::Wide,
         }
     }
     /// The node array as uploaded to the GPU.
@@ -50,6 +53,7 @@ impl FlatBvh {
             FlatNodes::Threaded(n) | FlatNodes::MultiOrder(n) => bytemuck::cast_slice(n),
             FlatNodes::ParentLink(n) => bytemuck::cast_slice(n),
             FlatNodes::Compact(n, _) => bytemuck::cast_slice(n),
+            FlatNodes::Wide(n) => bytemuck::cast_slice(n),
         }
     }
     /// The compact layout's grid; zero for the others.
@@ -65,6 +69,7 @@ impl FlatBvh {
             FlatNodes::Threaded(n) | FlatNodes::MultiOrder(n) => n.len(),
             FlatNodes::ParentLink(n) => n.len(),
             FlatNodes::Compact(n, _) => n.len(),
+            FlatNodes::Wide(n) => n.len(),
         }
     }
     /// Bytes the node and triangle arrays occupy on the GPU.
@@ -78,6 +83,7 @@ impl FlatBvh {
             FlatNodes::MultiOrder(n) => multi_order::trace(n, &self.triangles, ray, any_hit),
             FlatNodes::ParentLink(n) => parent_link::trace(n, &self.triangles, ray, any_hit),
             FlatNodes::Compact(n, grid) => compact::trace(n, grid, &self.triangles, ray, any_hit),
+            FlatNodes::Wide(n) => wide::trace(n, &self.triangles, ray, any_hit),
         }
     }
 }
@@ -96,6 +102,7 @@ pub fn flatten_as(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind) -> anyhow::R
             let (nodes, grid) = compact::from_threaded(&threaded_in_tree_order(bvh))?;
             FlatNodes::Compact(nodes, grid)
         }
+        LayoutKind::Wide => FlatNodes::Wide(wide::flatten(bvh)?),
     };
     Ok(FlatBvh { nodes, triangles })
 }

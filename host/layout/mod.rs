@@ -13,6 +13,7 @@ pub mod multi_order;
 pub mod parent_link;
 pub mod scene_buffers;
 pub mod texture_atlas;
+pub mod wide;
 
 use bytemuck::{Pod, Zeroable};
 
@@ -68,6 +69,33 @@ pub struct GpuCompactNode {
 }
 const _: () = assert!(std::mem::size_of::<GpuCompactNode>() == 16);
 
+/// A node of the wide (4-ary) BVH walked by `traverse_wide.glsl` (`wide.rs`): the boxes of
+/// up to four children side by side (structure of arrays, so one node is eight RGBA32UI texels
+/// and one visit tests four boxes), what each child is, and the link back to the parent.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuWideNode {
+    /// Child boxes, one lane per slot; slots past the child count hold zeros and are never
+    /// tested.
+    pub min_x: [f32; 4],
+    pub min_y: [f32; 4],
+    pub min_z: [f32; 4],
+    pub max_x: [f32; 4],
+    pub max_y: [f32; 4],
+    pub max_z: [f32; 4],
+    /// Per slot: a leaf as (first triangle << LEAF_COUNT_BITS) | count, or an interior child
+    /// as (its node index << LEAF_COUNT_BITS) with count 0.
+    pub children: [u32; 4],
+    /// The parent node's index, or `NODE_NONE` for the root.
+    pub parent: u32,
+    /// Child count | ordering axis << WIDE_INFO_AXIS_SHIFT | slot in the parent <<
+    /// WIDE_INFO_SLOT_SHIFT. Slots are sorted by box centre along the ordering axis.
+    pub info: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuWideNode>() == 128);
+
 /// How the BVH is laid out for stackless traversal on the GPU. Each has its flatten code, its
 /// CPU twin and its shader (`shaders/include/traverse_*.glsl`, picked by a `-D LAYOUT_*` define
 /// per shader variant).
@@ -85,10 +113,14 @@ pub enum LayoutKind {
     /// The threaded layout in 16 B per node: boxes rounded outwards to a 16-bit grid over the
     /// scene, one texel fetch per node; a ray may visit a few more nodes.
     Compact,
+    /// A 4-ary BVH collapsed from the binary one: each visit tests four boxes (128 B per
+    /// node), children in order along a per-node axis; going back up re-enters the parent.
+    Wide,
 }
 
 impl LayoutKind {
-    pub const ALL: [LayoutKind; 4] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact];
+    pub const ALL: [LayoutKind; 5] =
+        [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact, LayoutKind::Wide];
 
     /// The suffix of this layout's shader variants (`pipeline::variants`): "" for threaded, so
     /// a shader with no layout variants walks the default layout.
@@ -98,6 +130,7 @@ impl LayoutKind {
             LayoutKind::MultiOrder => "_multi_order",
             LayoutKind::ParentLink => "_parent_link",
             LayoutKind::Compact => "_compact",
+            LayoutKind::Wide => "_wide",
         }
     }
 
@@ -108,6 +141,7 @@ impl LayoutKind {
             LayoutKind::MultiOrder => "multi-order",
             LayoutKind::ParentLink => "parent-link",
             LayoutKind::Compact => "compact",
+            LayoutKind::Wide => "wide",
         }
     }
 }

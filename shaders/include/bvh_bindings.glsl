@@ -12,7 +12,8 @@
 //   the profile showed as the hottest instructions of both trace and path shaders.
 // On GPUs texel fetches go through the texture cache, a fine path for read-only data.
 // The decode assumes the std430 layouts of GpuNode / GpuParentNode (32 B: bmin, link, bmax,
-// leaf), GpuCompactNode (16 B: four words) and GpuTriangle (48 B: v0, prim, v1, pad, v2, pad);
+// leaf), GpuCompactNode (16 B: four words), GpuWideNode (128 B: eight vec4-sized rows) and
+// GpuTriangle (48 B: v0, prim, v1, pad, v2, pad);
 // tests/layout.rs pins them, tests/texel_decode.rs checks the decode field by field, and the
 // GPU agreement tests (tests/traversal.rs) would see any misread field.
 // Needs GL_EXT_samplerless_texture_functions (enabled by each .comp).
@@ -23,12 +24,14 @@
 
 layout(push_constant) uniform Push { GpuPush push; };
 
-// The node type depends on the layout (see traverse.glsl): 32 bytes (2 texels), or 16 bytes
-// (1 texel) for the compact layout.
+// The node type depends on the layout (see traverse.glsl): 32 bytes (2 texels), 16 bytes
+// (1 texel) for the compact layout, 128 bytes (8 texels) for the wide one.
 #if defined(LAYOUT_PARENT_LINK)
 #define BVH_NODE GpuParentNode
 #elif defined(LAYOUT_COMPACT)
 #define BVH_NODE GpuCompactNode
+#elif defined(LAYOUT_WIDE)
+#define BVH_NODE GpuWideNode
 #else
 #define BVH_NODE GpuNode
 #endif
@@ -46,6 +49,21 @@ uint node_count() { return push.node_count; }
 BVH_NODE load_node(uint i) {
     uvec4 a = texelFetch(node_texels, int(i));
     return BVH_NODE(a.x, a.y, a.z, a.w);
+}
+#elif defined(LAYOUT_WIDE)
+// The eight fetches are issued back to back, so the ray's state is reloaded once after them
+// rather than after each of a binary walk's steps.
+BVH_NODE load_node(uint i) {
+    int base = int(8u * i);
+    vec4 min_x = uintBitsToFloat(texelFetch(node_texels, base));
+    vec4 min_y = uintBitsToFloat(texelFetch(node_texels, base + 1));
+    vec4 min_z = uintBitsToFloat(texelFetch(node_texels, base + 2));
+    vec4 max_x = uintBitsToFloat(texelFetch(node_texels, base + 3));
+    vec4 max_y = uintBitsToFloat(texelFetch(node_texels, base + 4));
+    vec4 max_z = uintBitsToFloat(texelFetch(node_texels, base + 5));
+    uvec4 children = texelFetch(node_texels, base + 6);
+    uvec4 link = texelFetch(node_texels, base + 7);
+    return BVH_NODE(min_x, min_y, min_z, max_x, max_y, max_z, children, link.x, link.y, 0u, 0u);
 }
 #else
 BVH_NODE load_node(uint i) {

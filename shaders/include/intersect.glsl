@@ -62,6 +62,8 @@ float sel_min(float a, float b) { return a < b ? a : b; }
 float sel_max(float a, float b) { return a > b ? a : b; }
 vec3 sel_min(vec3 a, vec3 b) { return mix(b, a, lessThan(a, b)); }
 vec3 sel_max(vec3 a, vec3 b) { return mix(b, a, greaterThan(a, b)); }
+vec4 sel_min(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
+vec4 sel_max(vec4 a, vec4 b) { return mix(b, a, greaterThan(a, b)); }
 
 // Entry distance if the ray overlaps the box within [tmin, tmax], else -1 with `hit` false.
 // Boxes are finite (the loaders drop triangles with a non-finite vertex), and a NaN ray has

@@ -24,6 +24,20 @@ struct GpuCompactNode {
     uint link;
 };
 
+struct GpuWideNode {
+    vec4 min_x;
+    vec4 min_y;
+    vec4 min_z;
+    vec4 max_x;
+    vec4 max_y;
+    vec4 max_z;
+    uvec4 children;
+    uint parent;
+    uint info;
+    uint _pad0;
+    uint _pad1;
+};
+
 struct GpuTriangle {
     vec3 v0;
     uint prim;

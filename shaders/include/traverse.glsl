@@ -1,6 +1,6 @@
 // The traversal interface every integrator uses: trace_closest() and occluded(), returning a Hit.
 // The BVH layout behind them is picked at compile time by a define per shader variant
-// (host/pipeline/variants.rs): LAYOUT_MULTI_ORDER, LAYOUT_PARENT_LINK, LAYOUT_COMPACT, or none
+// (host/pipeline/variants.rs): LAYOUT_MULTI_ORDER, LAYOUT_PARENT_LINK, LAYOUT_COMPACT, LAYOUT_WIDE, or none
 // (threaded);
 // PACKET_TRAVERSAL walks the threaded layout a subgroup at a time (trace.comp only).
 // Each layout file defines `Hit traverse(origin, dir, tmin, tmax, any_hit)`; its CPU twin is named
@@ -71,6 +71,8 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
 }
 #elif defined(LAYOUT_COMPACT)
 #include "traverse_compact.glsl"
+#elif defined(LAYOUT_WIDE)
+#include "traverse_wide.glsl"
 #elif defined(LAYOUT_MULTI_ORDER)
 #include "traverse_threaded.glsl"
 #include "traverse_multi_order.glsl"

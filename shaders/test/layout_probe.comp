@@ -31,8 +31,10 @@ layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer Hits { GpuHit h
 
 void main() {
     // Touch every binding so the compiler keeps it.
-#ifdef LAYOUT_COMPACT
+#if defined(LAYOUT_COMPACT)
     float node_value = float(nodes[0].link);
+#elif defined(LAYOUT_WIDE)
+    float node_value = nodes[0].min_x.x;
 #else
     float node_value = nodes[0].bmin.x;
 #endif
