@@ -4,12 +4,13 @@
 # binary alike. Prints one Markdown row per binary and workload: the best and the median over
 # the rounds.
 #
-#   tools/bench_binaries.sh ROUNDS NAME=PATH [NAME=PATH ...]
+#   [LAYOUTS="threaded wide ..."] tools/bench_binaries.sh ROUNDS NAME=PATH [NAME=PATH ...]
 #
-# Workloads: `vkrt trace` on Conference and Sponza (threaded layout, SAH), primary rays (1024^2
-# pinhole) and 1M incoherent rays, both from tools/embree_compare.py's generators (needs numpy);
-# and a 16 spp 512x512 path-traced render of scenes/cornell-measured (render seconds as vkrt
-# reports them).
+# Workloads: `vkrt trace` on Conference and Sponza (SAH), primary rays (1024^2 pinhole) and 1M
+# incoherent rays, both from tools/embree_compare.py's generators (needs numpy); and a 16 spp
+# 512x512 path-traced render of scenes/cornell-measured (render seconds as vkrt reports them).
+# Each workload runs once per layout in LAYOUTS (default: threaded), so one binary can also
+# compare layouts.
 set -euo pipefail
 rounds=${1:?usage: tools/bench_binaries.sh ROUNDS NAME=PATH [NAME=PATH ...]}
 shift
@@ -33,19 +34,21 @@ PY
 declare -A results
 for _ in $(seq "$rounds"); do
   for pair in "$@"; do
-    name=${pair%%=*}; bin=${pair#*=}
-    for scene in conference sponza; do
-      obj="$shared/scenes/conference/conference.obj"
-      [ "$scene" = sponza ] && obj="$shared/scenes/sponza-dabrovic/sponza.obj"
-      for kind in primary incoherent; do
-        rate=$("$bin" trace "$obj" --rays "$tmp/$scene-$kind.npy" --out "$tmp/hits.npy" --layout threaded 2>&1 \
-          | grep -o '[0-9.]* M rays/s' | cut -d' ' -f1)
-        results["$name|$scene $kind (M rays/s)"]+="$rate "
+    for layout in ${LAYOUTS:-threaded}; do
+      name="${pair%%=*}/$layout"; bin=${pair#*=}
+      for scene in conference sponza; do
+        obj="$shared/scenes/conference/conference.obj"
+        [ "$scene" = sponza ] && obj="$shared/scenes/sponza-dabrovic/sponza.obj"
+        for kind in primary incoherent; do
+          rate=$("$bin" trace "$obj" --rays "$tmp/$scene-$kind.npy" --out "$tmp/hits.npy" --layout "$layout" 2>&1 \
+            | grep -o '[0-9.]* M rays/s' | cut -d' ' -f1)
+          results["$name|$scene $kind (M rays/s)"]+="$rate "
+        done
       done
+      secs=$("$bin" render "$root/scenes/cornell-measured/cornell.yaml" --integrator path --spp 16 --width 512 --height 512 \
+        --layout "$layout" -o "$tmp/path.pfm" 2>&1 | grep -o 'in [0-9.]* s on' | cut -d' ' -f2)
+      results["$name|path cornell 512^2 16 spp (s)"]+="$secs "
     done
-    secs=$("$bin" render "$root/scenes/cornell-measured/cornell.yaml" --integrator path --spp 16 --width 512 --height 512 \
-      -o "$tmp/path.pfm" 2>&1 | grep -o 'in [0-9.]* s on' | cut -d' ' -f2)
-    results["$name|path cornell 512^2 16 spp (s)"]+="$secs "
   done
 done
 echo "| binary | workload | best | median | all rounds |"
