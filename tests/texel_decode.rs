@@ -58,53 +58,73 @@ fn case<'a, T: bytemuck::Pod + PartialEq + Debug>(
     Case { name, binding, count: n as u32, array, out_binding, out, check }
 }
 
-#[test]
-fn every_texel_decoder_reads_back_what_the_host_uploaded() {
-    let ctx = common::gpu_context();
+/// Runs `probe` over every array, with `nodes` as the node array (its layout's node type), and
+/// checks every struct that comes back.
+fn check_probe<'a>(ctx: &'a Context, probe: &[u8], nodes: impl FnOnce(&mut common::Pcg) -> Case<'a>) {
     let mut rng = common::Pcg::new(7);
     let rgba = TexelFormat::Rgba32Uint;
     let o = BINDING_DECODE_OUT;
     // Odd counts, none a multiple of the workgroup size.
     let cases = vec![
-        case(&ctx, "nodes", BINDING_NODES, o, rgba, values(&mut rng, 37, |_: &mut GpuNode| ())),
-        case(&ctx, "triangles", BINDING_TRIANGLES, o + 1, rgba, values(&mut rng, 41, |t: &mut GpuTriangle| {
+        nodes(&mut rng),
+        case(ctx, "triangles", BINDING_TRIANGLES, o + 1, rgba, values(&mut rng, 41, |t: &mut GpuTriangle| {
             t._pad0 = 0;
             t._pad1 = 0;
         })),
-        case(&ctx, "shading", BINDING_SHADING, o + 2, rgba, values(&mut rng, 43, |s: &mut GpuShading| {
+        case(ctx, "shading", BINDING_SHADING, o + 2, rgba, values(&mut rng, 43, |s: &mut GpuShading| {
             s._pad0 = 0;
             s._pad1 = 0;
         })),
-        case(&ctx, "materials", BINDING_MATERIALS, o + 3, rgba, values(&mut rng, 29, |m: &mut GpuMaterial| {
+        case(ctx, "materials", BINDING_MATERIALS, o + 3, rgba, values(&mut rng, 29, |m: &mut GpuMaterial| {
             m._pad0 = 0;
             m._pad1 = 0;
         })),
-        case(&ctx, "lights", BINDING_LIGHTS, o + 4, rgba, values(&mut rng, 13, |l: &mut GpuLight| l._pad0 = 0)),
-        case(&ctx, "emitters", BINDING_EMITTERS, o + 5, rgba, values(&mut rng, 31, |e: &mut GpuEmitter| {
+        case(ctx, "lights", BINDING_LIGHTS, o + 4, rgba, values(&mut rng, 13, |l: &mut GpuLight| l._pad0 = 0)),
+        case(ctx, "emitters", BINDING_EMITTERS, o + 5, rgba, values(&mut rng, 31, |e: &mut GpuEmitter| {
             e._pad0 = 0;
             e._pad1 = 0;
         })),
-        case(&ctx, "textures", BINDING_TEXTURES, o + 6, rgba, values(&mut rng, 11, |t: &mut GpuTexture| t._pad0 = 0)),
-        case(&ctx, "texels", BINDING_TEXELS, o + 7, TexelFormat::R32Uint, values(&mut rng, 101, |_: &mut u32| ())),
-        case(&ctx, "uvs", BINDING_UVS, o + 8, rgba, values(&mut rng, 47, |u: &mut GpuUv| {
+        case(ctx, "textures", BINDING_TEXTURES, o + 6, rgba, values(&mut rng, 11, |t: &mut GpuTexture| t._pad0 = 0)),
+        case(ctx, "texels", BINDING_TEXELS, o + 7, TexelFormat::R32Uint, values(&mut rng, 101, |_: &mut u32| ())),
+        case(ctx, "uvs", BINDING_UVS, o + 8, rgba, values(&mut rng, 47, |u: &mut GpuUv| {
             u._pad0 = 0;
             u._pad1 = 0;
         })),
-        case(&ctx, "light picks", BINDING_LIGHT_PICKS, o + 9, rgba, values(&mut rng, 53, |p: &mut GpuLightPick| p._pad0 = 0)),
+        case(ctx, "light picks", BINDING_LIGHT_PICKS, o + 9, rgba, values(&mut rng, 53, |p: &mut GpuLightPick| p._pad0 = 0)),
     ];
     let mut bindings: Vec<(u32, BindingKind)> = cases.iter().map(|c| (c.binding, BindingKind::Texels)).collect();
     bindings.extend(cases.iter().map(|c| (c.out_binding, BindingKind::Storage)));
-    let pipeline = ComputePipeline::new(&ctx, "texel decode probe", shaders::TEXEL_DECODE_PROBE, &bindings, 0).unwrap();
+    let pipeline = ComputePipeline::new(ctx, "texel decode probe", probe, &bindings, 0).unwrap();
     for c in &cases {
         pipeline.bind_texels(c.binding, &c.array.view).unwrap();
         pipeline.bind(c.out_binding, &c.out).unwrap();
     }
     let most = cases.iter().map(|c| c.count).max().unwrap_or(0);
     let groups = [most.div_ceil(WORKGROUP_SIZE_1D), 1, 1];
-    submit_and_wait(&ctx, "texel decode probe", |cmd| pipeline.record_dispatch(cmd, &[], groups)).unwrap();
+    submit_and_wait(ctx, "texel decode probe", |cmd| pipeline.record_dispatch(cmd, &[], groups)).unwrap();
     for c in &cases {
         eprintln!("checking {}", c.name);
         (c.check)(&c.out);
     }
-    common::assert_no_validation_messages(&ctx);
+    common::assert_no_validation_messages(ctx);
+}
+
+#[test]
+fn every_texel_decoder_reads_back_what_the_host_uploaded() {
+    let ctx = common::gpu_context();
+    check_probe(&ctx, shaders::TEXEL_DECODE_PROBE, |rng| {
+        case(&ctx, "nodes", BINDING_NODES, BINDING_DECODE_OUT, TexelFormat::Rgba32Uint, values(rng, 37, |_: &mut GpuNode| ()))
+    });
+}
+
+#[test]
+fn the_wide_node_decoder_reads_back_what_the_host_uploaded() {
+    let ctx = common::gpu_context();
+    check_probe(&ctx, shaders::TEXEL_DECODE_PROBE_WIDE, |rng| {
+        let nodes = values(rng, 37, |n: &mut GpuWideNode| {
+            n._pad0 = 0;
+            n._pad1 = 0;
+        });
+        case(&ctx, "wide nodes", BINDING_NODES, BINDING_DECODE_OUT, TexelFormat::Rgba32Uint, nodes)
+    });
 }

@@ -45,4 +45,5 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "bsdf_probe", source: "test/bsdf_probe.comp", defines: &[] },
     Variant { name: "sampler_probe", source: "test/sampler_probe.comp", defines: &[] },
     Variant { name: "texel_decode_probe", source: "test/texel_decode_probe.comp", defines: &[] },
+    Variant { name: "texel_decode_probe_wide", source: "test/texel_decode_probe.comp", defines: &["LAYOUT_WIDE"] },
 ];

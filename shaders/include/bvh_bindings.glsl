@@ -28,12 +28,16 @@ layout(push_constant) uniform Push { GpuPush push; };
 // (1 texel) for the compact layout, 128 bytes (8 texels) for the wide one.
 #if defined(LAYOUT_PARENT_LINK)
 #define BVH_NODE GpuParentNode
+#define BVH_NODE_TEXELS 2u
 #elif defined(LAYOUT_COMPACT)
 #define BVH_NODE GpuCompactNode
+#define BVH_NODE_TEXELS 1u
 #elif defined(LAYOUT_WIDE)
 #define BVH_NODE GpuWideNode
+#define BVH_NODE_TEXELS 8u
 #else
 #define BVH_NODE GpuNode
+#define BVH_NODE_TEXELS 2u
 #endif
 
 // The layout probe declares these bindings as struct arrays instead, to check their layout.
@@ -54,7 +58,7 @@ BVH_NODE load_node(uint i) {
 // The eight fetches are issued back to back, so the ray's state is reloaded once after them
 // rather than after each of a binary walk's steps.
 BVH_NODE load_node(uint i) {
-    int base = int(8u * i);
+    int base = int(BVH_NODE_TEXELS * i);
     vec4 min_x = uintBitsToFloat(texelFetch(node_texels, base));
     vec4 min_y = uintBitsToFloat(texelFetch(node_texels, base + 1));
     vec4 min_z = uintBitsToFloat(texelFetch(node_texels, base + 2));
@@ -67,8 +71,8 @@ BVH_NODE load_node(uint i) {
 }
 #else
 BVH_NODE load_node(uint i) {
-    uvec4 a = texelFetch(node_texels, int(2u * i));
-    uvec4 b = texelFetch(node_texels, int(2u * i + 1u));
+    uvec4 a = texelFetch(node_texels, int(BVH_NODE_TEXELS * i));
+    uvec4 b = texelFetch(node_texels, int(BVH_NODE_TEXELS * i + 1u));
     return BVH_NODE(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
 }
 #endif

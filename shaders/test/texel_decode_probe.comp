@@ -3,7 +3,8 @@
 // bvh_bindings.glsl; load_shading ... load_uv in scene_bindings.glsl; load_light_pick in
 // path_bindings.glsl) and writes each decoded struct to a std430 array of that struct, so
 // tests/texel_decode.rs can check that the shaders read back, field for field, what the host
-// uploaded. Invocation i decodes element i of every array that has one.
+// uploaded. Invocation i decodes element i of every array that has one. The node decoder is
+// the layout's (a LAYOUT_* define picks it, as in the integrators' variants).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 
@@ -12,7 +13,7 @@
 
 layout(local_size_x = WORKGROUP_SIZE_1D) in;
 
-layout(std430, set = 0, binding = BINDING_DECODE_OUT + 0) writeonly buffer OutNodes { GpuNode out_nodes[]; };
+layout(std430, set = 0, binding = BINDING_DECODE_OUT + 0) writeonly buffer OutNodes { BVH_NODE out_nodes[]; };
 layout(std430, set = 0, binding = BINDING_DECODE_OUT + 1) writeonly buffer OutTriangles { GpuTriangle out_triangles[]; };
 layout(std430, set = 0, binding = BINDING_DECODE_OUT + 2) writeonly buffer OutShading { GpuShading out_shading[]; };
 layout(std430, set = 0, binding = BINDING_DECODE_OUT + 3) writeonly buffer OutMaterials { GpuMaterial out_materials[]; };
@@ -26,7 +27,7 @@ layout(std430, set = 0, binding = BINDING_DECODE_OUT + 9) writeonly buffer OutLi
 void main() {
     uint i = gl_GlobalInvocationID.x;
     // Elements in a view: its texels over the texels per struct.
-    if (i < uint(textureSize(node_texels)) / 2u) out_nodes[i] = load_node(i);
+    if (i < uint(textureSize(node_texels)) / BVH_NODE_TEXELS) out_nodes[i] = load_node(i);
     if (i < uint(textureSize(triangle_texels)) / 3u) out_triangles[i] = load_triangle(i);
     if (i < uint(textureSize(shading_texels)) / 3u) out_shading[i] = load_shading(i);
     if (i < uint(textureSize(material_texels)) / 4u) out_materials[i] = load_material(i);
