@@ -48,6 +48,11 @@ pub struct PathArgs {
     /// Path tracer: BSDF sampling only, no light sampling (for checking the estimators).
     #[arg(long)]
     pub no_nee: bool,
+    /// Path tracer: pixels in a row that draw the same sample numbers (coherent path tracing).
+    /// 8 makes lavapipe's SIMD lanes trace alike: about 2x faster at the same expected error,
+    /// with the noise in short horizontal streaks. 1: every pixel its own numbers.
+    #[arg(long, default_value_t = 1)]
+    pub coherence: u32,
 }
 
 /// What the render command passes on.
@@ -76,6 +81,7 @@ fn run_settings(run: &PathRun, settings: &PathSettings) -> Result<RunSettings> {
         sample_rate: settings.sample_rate,
         max_depth: settings.max_depth.unwrap_or(PATH_DEPTH_UNBOUNDED),
         nee: settings.nee as u32,
+        coherence: settings.coherence,
     })
 }
 
@@ -99,6 +105,7 @@ pub fn render(ctx: &Context, scene: &scene::Scene, gpu: &GpuScene, run: &PathRun
         sampler: a.sampler,
         sample_rate: a.sample_rate,
         nee: !a.no_nee,
+        coherence: a.coherence,
         stop,
     };
     let ours = run_settings(run, &settings)?;

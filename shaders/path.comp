@@ -114,7 +114,7 @@ void main() {
     float dropped = 0.0;
     for (uint k = 0u; k < push.sample_count; k++) {
         uint sample_index = push.sample_base + k;
-        Sampler smp = sampler_init(params.sampler_kind, index, sample_index, frame.seed, params.sample_rate);
+        Sampler smp = sampler_init(params.sampler_kind, sample_key(pixel, frame.width, params.coherence), sample_index, frame.seed, params.sample_rate);
         vec3 dir = camera_ray_direction(frame, vec2(pixel) + sampler_pixel(smp));
         vec3 c = radiance(frame.cam_origin, dir, smp);
         // NaN and Inf never enter the accumulation buffers: count them instead.

@@ -105,7 +105,7 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
         rust_fields!(GpuRay { origin, tmin, direction, tmax }),
         rust_fields!(GpuHit { t, prim, u, v, nodes_visited, tris_tested, _pad0, _pad1 }),
         rust_fields!(GpuLightPick { pmf, alias, threshold, _pad0 }),
-        rust_fields!(GpuPathParams { max_depth, rr_depth, sampler_kind, sample_rate, pick_count, nee, inv_total_weight, _pad0 }),
+        rust_fields!(GpuPathParams { max_depth, rr_depth, sampler_kind, sample_rate, pick_count, nee, inv_total_weight, coherence }),
     ];
     for (name, size, fields) in expected {
         let s = structs.get(name).unwrap_or_else(|| panic!("struct {name} is missing from the SPIR-V"));

@@ -4,7 +4,7 @@
 //! Bound, from ../shared/refs/README.md: a correct path tracer with next-event estimation has
 //! relMSE about 0.175 / spp on this scene; we allow twice that plus 1e-4 (the reference's own
 //! noise is 4.3e-5), and per-channel means within 1 %. Measured on lavapipe: Sobol 7.0e-3 at
-//! 16 spp (bound 2.2e-2), means within 0.11 %.
+//! 16 spp (bound 2.2e-2), means within 0.11 %; with coherence 8, 6.8e-3, means within 0.1 %.
 
 mod common;
 
@@ -40,6 +40,62 @@ fn cornell_converges_to_the_mitsuba_reference_with_every_sampler() {
             assert!(rel.abs() <= 0.01, "{sampler:?}: channel {k} mean off by {:.3} %", rel * 100.0);
         }
     }
+}
+
+/// Pearson correlation of the error (image minus reference, summed over channels) between
+/// horizontal neighbours (x, x + 1): those in the same block of `block` pixels, and those on
+/// either side of a block boundary.
+fn neighbour_error_correlation(image: &vkrt::integrator::Image, reference: &vkrt::integrator::Image, block: u32) -> (f64, f64) {
+    let err = |x: u32, y: u32| -> f64 {
+        let (a, b) = (image.get(x, y), reference.get(x, y));
+        (0..3).map(|k| f64::from(a[k] - b[k])).sum()
+    };
+    let correlation = |pairs: &[(f64, f64)]| -> f64 {
+        let n = pairs.len() as f64;
+        let (ma, mb) = (pairs.iter().map(|p| p.0).sum::<f64>() / n, pairs.iter().map(|p| p.1).sum::<f64>() / n);
+        let cov: f64 = pairs.iter().map(|p| (p.0 - ma) * (p.1 - mb)).sum();
+        let va: f64 = pairs.iter().map(|p| (p.0 - ma).powi(2)).sum();
+        let vb: f64 = pairs.iter().map(|p| (p.1 - mb).powi(2)).sum();
+        cov / (va * vb).sqrt()
+    };
+    let (mut within, mut across) = (Vec::new(), Vec::new());
+    for y in 0..image.height {
+        for x in 0..image.width - 1 {
+            let pair = (err(x, y), err(x + 1, y));
+            if (x + 1) % block == 0 { across.push(pair) } else { within.push(pair) }
+        }
+    }
+    (correlation(&within), correlation(&across))
+}
+
+/// Coherent sampling (`PathSettings::coherence`): each pixel's estimate is distributed as
+/// without it, so the image meets the same bound; and the pixels of a block really do share
+/// their numbers, which shows as correlated errors inside blocks and not across them.
+#[test]
+fn coherent_sampling_meets_the_same_bound_and_correlates_only_within_blocks() {
+    let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
+    let scene = cornell();
+    let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
+    let means = reference.mean();
+    let mut settings = common::path_settings(reference.width, reference.height, SPP);
+    let plain = common::render_path(&scene, &settings).image();
+    settings.coherence = 8;
+    let coherent = common::render_path(&scene, &settings).image();
+    let c = compare(&coherent, &reference).unwrap();
+    eprintln!("coherence 8: relMSE {:.3e} (bound {bound:.3e}), mean diff {:?}", c.relmse, c.mean_diff);
+    assert!(c.relmse <= bound, "relMSE {:.4e} > {bound:.4e}", c.relmse);
+    for k in 0..3 {
+        let rel = c.mean_diff[k] / means[k];
+        assert!(rel.abs() <= 0.01, "channel {k} mean off by {:.3} %", rel * 100.0);
+    }
+    let (within, across) = neighbour_error_correlation(&coherent, &reference, 8);
+    let (plain_within, _) = neighbour_error_correlation(&plain, &reference, 8);
+    eprintln!("error correlation of neighbours: coherent within {within:.3}, across {across:.3}; plain {plain_within:.3}");
+    assert!(within > 0.5, "coherent neighbours in a block: correlation {within:.3}");
+    // Neighbours in different blocks draw independent numbers (measured 0.15: they still see
+    // alike surroundings).
+    assert!(across < within - 0.4, "coherent neighbours across a block boundary: correlation {across:.3}");
+    assert!(plain_within < 0.2, "plain neighbours: correlation {plain_within:.3}");
 }
 
 #[test]

@@ -26,9 +26,10 @@ import sys
 import time
 
 
-def vkrt_render(binary, scene, out, width, height, spp, sampler, seed):
+def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence):
     cmd = [binary, "render", scene, "-o", out, "--integrator", "path", "--width", str(width),
-           "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed)]
+           "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed),
+           "--coherence", str(coherence)]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         sys.exit(f"vkrt failed: {' '.join(cmd)}\n{res.stderr}")
@@ -145,6 +146,8 @@ def main():
     ap.add_argument("--height", type=int, default=512)
     ap.add_argument("--spp", type=int, nargs="+", default=[1, 4, 16, 64])
     ap.add_argument("--samplers", nargs="+", default=["sobol", "independent"])
+    ap.add_argument("--coherence", type=int, nargs="+", default=[1],
+                    help="vkrt --coherence values to run each sampler with (1: every pixel its own numbers)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--vkrt", default="target/release/vkrt")
     ap.add_argument("--out", default="target/bench/path")
@@ -160,13 +163,15 @@ def main():
     os.makedirs(args.out, exist_ok=True)
 
     rows = []
-    for sampler in args.samplers:
-        for spp in args.spp:
-            img = os.path.join(args.out, f"vkrt-{sampler}-{spp}.exr")
-            secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed)
-            rel = vkrt_compare(args.vkrt, img, args.reference)
-            rows.append((f"vkrt {sampler} (lavapipe)", spp, secs, rel))
-            print(f"vkrt {sampler:11s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
+    for coherence in args.coherence:
+        for sampler in args.samplers:
+            name = sampler if coherence == 1 else f"{sampler} coherence {coherence}"
+            for spp in args.spp:
+                img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence}-{spp}.exr")
+                secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence)
+                rel = vkrt_compare(args.vkrt, img, args.reference)
+                rows.append((f"vkrt {name} (lavapipe)", spp, secs, rel))
+                print(f"vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
     if not args.no_mitsuba:
         rows += run_mitsuba(args, args.spp, args.reference)
 

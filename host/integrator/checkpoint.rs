@@ -12,7 +12,9 @@ use anyhow::{bail, Context as _, Result};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"VKRTCKPT";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
+/// The format before `coherence` was stored (still read, as coherence 1).
+const VERSION_BEFORE_COHERENCE: u32 = 1;
 
 /// The settings a checkpoint must agree on to be resumed or merged.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -34,13 +36,15 @@ pub struct RunSettings {
     pub max_depth: u32,
     /// 1: next-event estimation with MIS; 0: BSDF sampling only.
     pub nee: u32,
+    /// Pixels in a row sharing sample numbers (`PathSettings::coherence`).
+    pub coherence: u32,
 }
 
 impl RunSettings {
     /// Fails, naming the first difference, unless `self` and `other` render the same image
     /// (seeds aside).
     pub fn check_same_render(&self, other: &RunSettings) -> Result<()> {
-        let checks: [(&str, String, String); 7] = [
+        let checks: [(&str, String, String); 8] = [
             ("scene file content", format!("{:016x}", self.scene_hash), format!("{:016x}", other.scene_hash)),
             ("size", format!("{}x{}", self.width, self.height), format!("{}x{}", other.width, other.height)),
             ("integrator", self.integrator.clone(), other.integrator.clone()),
@@ -48,6 +52,7 @@ impl RunSettings {
             ("sample rate", self.sample_rate.to_string(), other.sample_rate.to_string()),
             ("max depth", self.max_depth.to_string(), other.max_depth.to_string()),
             ("light sampling (nee)", self.nee.to_string(), other.nee.to_string()),
+            ("coherence", self.coherence.to_string(), other.coherence.to_string()),
         ];
         for (what, a, b) in checks {
             if a != b {
@@ -135,7 +140,7 @@ impl Checkpoint {
             out.extend_from_slice(&seed.to_le_bytes());
         }
         put_str(&mut out, &s.integrator);
-        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee] {
+        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence] {
             out.extend_from_slice(&v.to_le_bytes());
         }
         out.extend_from_slice(&self.accum.samples.to_le_bytes());
@@ -154,8 +159,8 @@ impl Checkpoint {
             bail!("not a vkrt checkpoint (bad magic)");
         }
         let version = r.u32("version")?;
-        if version != VERSION {
-            bail!("checkpoint version {version}; this vkrt reads version {VERSION}");
+        if version != VERSION && version != VERSION_BEFORE_COHERENCE {
+            bail!("checkpoint version {version}; this vkrt reads versions {VERSION_BEFORE_COHERENCE} and {VERSION}");
         }
         let scene_path = r.string("scene_path")?;
         let scene_hash = r.u64("scene_hash")?;
@@ -168,6 +173,8 @@ impl Checkpoint {
         let sample_rate = r.u32("sample_rate")?;
         let max_depth = r.u32("max_depth")?;
         let nee = r.u32("nee")?;
+        // Version 1 predates the setting: its runs gave every pixel its own numbers.
+        let coherence = if version == VERSION_BEFORE_COHERENCE { 1 } else { r.u32("coherence")? };
         let samples = r.u64("samples")?;
         let even_samples = r.u64("even_samples")?;
         if even_samples > samples {
@@ -180,7 +187,19 @@ impl Checkpoint {
             bail!("{} unexpected bytes after the data", data.len() - r.pos);
         }
         Ok(Self {
-            settings: RunSettings { scene_path, scene_hash, width, height, seeds, integrator, sampler, sample_rate, max_depth, nee },
+            settings: RunSettings {
+                scene_path,
+                scene_hash,
+                width,
+                height,
+                seeds,
+                integrator,
+                sampler,
+                sample_rate,
+                max_depth,
+                nee,
+                coherence,
+            },
             accum: Accumulation { width, height, samples, even_samples, sum, even },
         })
     }
@@ -239,6 +258,7 @@ mod tests {
             sample_rate: 4,
             max_depth: u32::MAX,
             nee: 1,
+            coherence: 1,
         };
         Checkpoint { settings, accum }
     }
@@ -252,6 +272,27 @@ mod tests {
         let mut bad = bytes.clone();
         bad[0] = b'X';
         assert!(Checkpoint::from_bytes(&bad).is_err(), "bad magic accepted");
+    }
+
+    /// A version-1 file (before `coherence` was stored) still reads, as coherence 1.
+    #[test]
+    fn reads_the_format_before_coherence() {
+        let mut c = sample(3);
+        c.settings.coherence = 8;
+        let v2 = c.to_bytes();
+        // The coherence word follows magic, version, path, hash, size, seeds, integrator and
+        // the four u32 settings before it.
+        let s = &c.settings;
+        let at = 8 + 4 + (4 + s.scene_path.len()) + 8 + 12 + 4 * s.seeds.len() + (4 + s.integrator.len()) + 16;
+        assert_eq!(v2[at..at + 4], 8u32.to_le_bytes());
+        let mut v1 = [&v2[..at], &v2[at + 4..]].concat();
+        v1[8..12].copy_from_slice(&VERSION_BEFORE_COHERENCE.to_le_bytes());
+        let read = Checkpoint::from_bytes(&v1).unwrap();
+        assert_eq!(read.settings.coherence, 1);
+        assert_eq!(read.accum, c.accum);
+        let mut future = v2.clone();
+        future[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
+        assert!(Checkpoint::from_bytes(&future).is_err(), "a newer version was accepted");
     }
 
     #[test]

@@ -61,6 +61,15 @@ pub struct PathSettings {
     pub sample_rate: u32,
     /// Next-event estimation with MIS (default); false: BSDF sampling only, for tests.
     pub nee: bool,
+    /// Pixels in a row that draw the same sample numbers (default 1: each pixel its own).
+    /// Coherent path tracing (Sadeghi, Chen & Jensen 2009, "Coherent path tracing", JGT
+    /// 14(2)): with 8, lavapipe's eight lanes (one row of a workgroup) take the same bounce,
+    /// light and roulette decisions at neighbouring points, so their rays stay coherent and
+    /// their paths end together. Each pixel's estimate is distributed as before, so the
+    /// expected error per pixel is the same; the errors of a block's pixels are correlated,
+    /// which shows as short horizontal streaks in the noise (BENCHMARKS.md, "Coherent
+    /// sampling").
+    pub coherence: u32,
     pub stop: Stop,
 }
 
@@ -72,6 +81,7 @@ impl Default for PathSettings {
             sampler: SamplerKind::Sobol,
             sample_rate: 4,
             nee: true,
+            coherence: 1,
             stop: Stop { spp: Some(16), ..Stop::default() },
         }
     }
@@ -124,6 +134,9 @@ pub fn path_params(scene: &Scene, settings: &PathSettings) -> Result<(GpuPathPar
     if settings.sample_rate == 0 {
         bail!("sample rate must be positive");
     }
+    if settings.coherence == 0 {
+        bail!("coherence must be at least 1 (pixels that share sample numbers)");
+    }
     let radius = {
         let b = scene.bounds();
         if b.is_empty() { 0.0 } else { 0.5 * b.extent().length() }
@@ -137,7 +150,7 @@ pub fn path_params(scene: &Scene, settings: &PathSettings) -> Result<(GpuPathPar
         pick_count: table.picks.len() as u32,
         nee: settings.nee as u32,
         inv_total_weight: if table.total_weight > 0.0 { (1.0 / table.total_weight) as f32 } else { 0.0 },
-        _pad0: 0,
+        coherence: settings.coherence,
     };
     Ok((params, table))
 }

@@ -367,6 +367,8 @@ pub struct GpuPathParams {
     /// 1 / the total selection weight (see `integrator::light_table`), so that an emissive
     /// triangle's area density is pi * mean(Ke) * inv_total_weight.
     pub inv_total_weight: f32,
-    pub _pad0: u32,
+    /// Pixels in a row that draw the same sample numbers (1: every pixel its own; see
+    /// `PathSettings::coherence`).
+    pub coherence: u32,
 }
 const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 32);

@@ -171,7 +171,7 @@ struct GpuPathParams {
     uint pick_count;
     uint nee;
     float inv_total_weight;
-    uint _pad0;
+    uint coherence;
 };
 
 #endif

@@ -50,6 +50,14 @@ struct Sampler {
     Rng rng;
 };
 
+// Which sample numbers a pixel draws: its own (coherence 1, the pixel index), or those of its
+// block of `coherence` pixels in a row, so that neighbouring lanes trace alike (coherent path
+// tracing, Sadeghi et al. 2009; PathSettings::coherence says why and what it costs).
+uint sample_key(uvec2 pixel, uint width, uint coherence) {
+    uint c = max(coherence, 1u);
+    return pixel.y * ((width + c - 1u) / c) + pixel.x / c;
+}
+
 Sampler sampler_init(uint kind, uint pixel, uint sample_index, uint seed, uint sample_rate) {
     Sampler s;
     s.kind = kind;
