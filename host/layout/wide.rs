@@ -1,8 +1,9 @@
 //! The wide layout: the binary BVH collapsed into a 4-ary one, walked without a stack by
 //! re-entering the parent (shader: `traverse_wide.glsl`).
 //!
-//! Why: on lavapipe a step of the binary walks costs far more in loop overhead, texel-fetch
-//! calls and the reloads after them than in its one box test (BENCHMARKS.md, "Per-step cost").
+//! Why it was built: the per-step profile of the binary walks on lavapipe suggested that a
+//! step costs more in loop overhead, texel-fetch calls and the reloads after them than in its
+//! one box test (BENCHMARKS.md, "Per-step cost"); the result below says how far that held.
 //! A wide node puts four child boxes in one visit, so a ray makes fewer, fatter steps: the
 //! multi-BVH idea of CPU ray tracers (Dammertz, Hanika & Keller 2008; Wald, Benthin & Boulos
 //! 2008), here for the lockstep lanes of a SIMT shader rather than for SIMD across the boxes.
@@ -31,12 +32,13 @@
 //!
 //! **Result on lavapipe:** a ray makes 2.6-3.5x fewer visits than the threaded walk's box
 //! tests, but a visit (eight texel fetches, four box tests) costs about as much as three
-//! threaded steps, so the layout runs at 0.7-0.95x of threaded on `vkrt trace` and slower in
-//! the path tracer. It is kept for devices where fetches are cheap relative to loop steps.
+//! threaded steps, so the layout runs at 0.65-0.89x of threaded on `vkrt trace` and takes 1.37x
+//! the time in the path tracer (BENCHMARKS.md, "Wide BVH"). It is kept for devices where fetches are cheap relative to loop steps.
 //!
 //! Counters: `nodes_visited` counts wide-node visits (each tests up to four boxes), so it is
 //! not comparable one for one with the binary layouts' box tests.
-//! Memory: 128 B per wide node, about a third as many nodes as the binary tree.
+//! Memory: 128 B per wide node, about a quarter as many nodes as the binary tree (Conference,
+//! SAH: 65,374 wide nodes for 269,939 binary ones).
 
 use super::constants::{LEAF_COUNT_BITS, NODE_NONE, WIDE_ARITY, WIDE_INFO_AXIS_SHIFT, WIDE_INFO_SLOT_SHIFT, WIDE_NO_SLOT};
 use super::cpu_trace::{self, leaf_count, RayPre, SLAB_FAR_PAD};

@@ -55,8 +55,8 @@ BVH_NODE load_node(uint i) {
     return BVH_NODE(a.x, a.y, a.z, a.w);
 }
 #elif defined(LAYOUT_WIDE)
-// The eight fetches are issued back to back, so the ray's state is reloaded once after them
-// rather than after each of a binary walk's steps.
+// Eight fetches, one per 16-byte row of GpuWideNode: six rows of child bounds, the child
+// words, then parent and info.
 BVH_NODE load_node(uint i) {
     int base = int(BVH_NODE_TEXELS * i);
     vec4 min_x = uintBitsToFloat(texelFetch(node_texels, base));
