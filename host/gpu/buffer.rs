@@ -118,6 +118,42 @@ impl<'a> Buffer<'a> {
         copy(self.ctx, &staging, self, bytes.len() as u64)
     }
 
+    /// Lets `fill` write the first `count` values of type T in place: straight into the mapping
+    /// when the buffer is host-visible (no staging copy), else through a staging vector.
+    pub fn write_with<T: bytemuck::Pod>(&self, count: usize, fill: impl FnOnce(&mut [T])) -> Result<()> {
+        let len = count * std::mem::size_of::<T>();
+        if len as u64 > self.size {
+            return Err(anyhow!("writing {len} bytes into buffer '{}' of {} bytes", self.name, self.size));
+        }
+        match self.mapped {
+            // SAFETY: the mapping covers `size` >= `len` bytes, is aligned for any T (Vulkan
+            // maps at minMemoryMapAlignment >= 64 bytes; T is plain data) and nothing on the
+            // GPU uses the buffer now (every submission is waited for).
+            Some(ptr) if count > 0 => fill(unsafe { std::slice::from_raw_parts_mut(ptr as *mut T, count) }),
+            _ => {
+                let mut staged = vec![T::zeroed(); count];
+                fill(&mut staged);
+                return self.write(bytemuck::cast_slice(&staged));
+            }
+        }
+        Ok(())
+    }
+
+    /// Lets `take` read the first `count` values of type T in place (the read-side twin of
+    /// [`Self::write_with`]).
+    pub fn read_with<T: bytemuck::Pod>(&self, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
+        let len = count * std::mem::size_of::<T>();
+        if len as u64 > self.size {
+            return Err(anyhow!("reading {len} bytes from buffer '{}' of {} bytes", self.name, self.size));
+        }
+        match self.mapped {
+            // SAFETY: as in `write_with`; coherent memory, the GPU is idle.
+            Some(ptr) if count > 0 => take(unsafe { std::slice::from_raw_parts(ptr as *const T, count) }),
+            _ => take(&self.read_as::<T>(count)?),
+        }
+        Ok(())
+    }
+
     /// Fills the buffer with zeros.
     pub fn clear(&self) -> Result<()> {
         let buffer = self.buffer;
@@ -129,22 +165,38 @@ impl<'a> Buffer<'a> {
 
     /// Reads `len` bytes from the start of the buffer.
     pub fn read(&self, len: u64) -> Result<Vec<u8>> {
-        let len = len.min(self.size);
-        if let Some(ptr) = self.mapped {
-            let mut out = vec![0u8; len as usize];
-            // SAFETY: as in `write`; coherent memory, the GPU is idle.
-            unsafe { std::ptr::copy_nonoverlapping(ptr, out.as_mut_ptr(), len as usize) };
-            return Ok(out);
-        }
-        let staging = Buffer::new(self.ctx, "staging read-back", len, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
-        copy(self.ctx, self, &staging, len)?;
-        staging.read(len)
+        self.read_as(len.min(self.size) as usize)
     }
 
     /// Reads `count` values of type T.
     pub fn read_as<T: bytemuck::Pod>(&self, count: usize) -> Result<Vec<T>> {
-        let bytes = self.read((count * std::mem::size_of::<T>()) as u64)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        let mut out = Vec::new();
+        self.read_into(count, &mut out)?;
+        Ok(out)
+    }
+
+    /// Appends the first `count` values of type T to `out`, copying once (a read of a million
+    /// hits is 32 MiB: each extra copy into fresh memory cost tens of milliseconds in page
+    /// faults on lavapipe).
+    pub fn read_into<T: bytemuck::Pod>(&self, count: usize, out: &mut Vec<T>) -> Result<()> {
+        let len = count * std::mem::size_of::<T>();
+        if len as u64 > self.size {
+            return Err(anyhow!("reading {len} bytes from buffer '{}' of {} bytes", self.name, self.size));
+        }
+        if count == 0 {
+            return Ok(());
+        }
+        let Some(ptr) = self.mapped else {
+            let staging = Buffer::new(self.ctx, "staging read-back", len as u64, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
+            copy(self.ctx, self, &staging, len as u64)?;
+            return staging.read_into(count, out);
+        };
+        let start = out.len();
+        out.resize(start + count, T::zeroed());
+        let dst: &mut [u8] = bytemuck::cast_slice_mut(&mut out[start..]);
+        // SAFETY: as in `write`; coherent memory, the GPU is idle, `dst` is `len` bytes.
+        unsafe { std::ptr::copy_nonoverlapping(ptr, dst.as_mut_ptr(), len) };
+        Ok(())
     }
 }
 
