@@ -120,6 +120,7 @@ fn trace_command_matches_brute_force_for_every_layout() {
             builder: BuilderKind::Reinsertion,
             layout,
             any_hit: false,
+            order: vkrt::integrator::ray_order::RayOrder::Auto,
             device: vkrt::cli::DeviceArgs { device: None },
         };
         let report = run(&args).unwrap();

@@ -6,6 +6,7 @@ pub mod frame;
 pub mod gpu_scene;
 pub mod light_table;
 pub mod path;
+pub mod ray_order;
 pub mod ray_query;
 pub mod tiles;
 pub mod whitted;

@@ -3,6 +3,7 @@
 //! the layout comparisons in `vkrt bvh`.
 
 use super::gpu_scene::GpuScene;
+use super::ray_order::{self, RayOrder};
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::{Buffer, Context, MemoryLocation};
 use crate::layout::constants::*;
@@ -15,12 +16,22 @@ use ash::vk;
 /// through a 300k-triangle scene take well under a second).
 pub const RAYS_PER_BATCH: usize = 1 << 16;
 
+/// Rays sorted together when a batch is reordered ([`ray_order`]): on Conference's incoherent
+/// rays, sorting within 64k-ray windows kept little of the gain, 256k most of it
+/// (BENCHMARKS.md, "Ray reordering"). `vkrt trace` hands over 1M rays at a time.
+pub const ORDER_WINDOW: usize = 1 << 20;
+
 /// A ray-query pipeline for one uploaded scene (the `trace` variant for its layout) and its
 /// ray and hit buffers; reusable for any number of [`RayQuery::trace`] calls.
 pub struct RayQuery<'a> {
     ctx: &'a Context,
     /// None for a scene without triangles: every ray misses and nothing runs.
     gpu: Option<(ComputePipeline<'a>, Buffer<'a>, Buffer<'a>, GpuPush)>,
+    /// The order rays are traced in (default [`RayOrder::Auto`]); hits always come back in
+    /// the caller's order.
+    pub order: RayOrder,
+    /// Rays traced in sorted order so far.
+    reordered: std::cell::Cell<u64>,
 }
 
 impl<'a> RayQuery<'a> {
@@ -31,7 +42,7 @@ impl<'a> RayQuery<'a> {
     /// The same with another `trace.comp` variant for the scene's layout (e.g. `trace_plain`).
     pub fn with_shader(ctx: &'a Context, gpu: &GpuScene, spv: &[u8]) -> Result<Self> {
         if gpu.triangle_count == 0 {
-            return Ok(Self { ctx, gpu: None });
+            return Ok(Self { ctx, gpu: None, order: RayOrder::default(), reordered: 0.into() });
         }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let ray_buf = Buffer::new(ctx, "rays", (RAYS_PER_BATCH * std::mem::size_of::<GpuRay>()) as u64, storage, MemoryLocation::Device)?;
@@ -46,21 +57,56 @@ impl<'a> RayQuery<'a> {
         gpu.bind_bvh(&pipeline)?;
         pipeline.bind(BINDING_RAYS, &ray_buf)?;
         pipeline.bind(BINDING_HITS, &hit_buf)?;
-        Ok(Self { ctx, gpu: Some((pipeline, ray_buf, hit_buf, gpu.push())) })
+        Ok(Self { ctx, gpu: Some((pipeline, ray_buf, hit_buf, gpu.push())), order: RayOrder::default(), reordered: 0.into() })
     }
 
-    /// Traces `rays`, [`RAYS_PER_BATCH`] per submission; one hit per ray, in order.
+    /// How many of the rays traced so far went in sorted order.
+    pub fn rays_reordered(&self) -> u64 {
+        self.reordered.get()
+    }
+
+    /// Traces `rays`, [`RAYS_PER_BATCH`] per submission, each window of [`ORDER_WINDOW`] rays
+    /// in the order [`Self::order`] picks for it; one hit per ray, in the order of `rays`.
     pub fn trace(&self, rays: &[GpuRay], any_hit: bool) -> Result<Vec<GpuHit>> {
         let Some((pipeline, ray_buf, hit_buf, scene)) = &self.gpu else {
             return Ok(vec![crate::layout::cpu_trace::miss(); rays.len()]);
         };
         let mut hits = Vec::with_capacity(rays.len());
-        for chunk in rays.chunks(RAYS_PER_BATCH) {
-            ray_buf.write(bytemuck::cast_slice(chunk))?;
-            let push = GpuPush { ray_count: chunk.len() as u32, any_hit: any_hit as u32, ..*scene };
-            let groups = [(chunk.len() as u32).div_ceil(WORKGROUP_SIZE_1D), 1, 1];
-            submit_and_wait(self.ctx, "trace rays", |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups))?;
-            hits.extend(hit_buf.read_as::<GpuHit>(chunk.len())?);
+        let submit = |count: usize| {
+            let push = GpuPush { ray_count: count as u32, any_hit: any_hit as u32, ..*scene };
+            let groups = [(count as u32).div_ceil(WORKGROUP_SIZE_1D), 1, 1];
+            submit_and_wait(self.ctx, "trace rays", |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups))
+        };
+        for window in rays.chunks(ORDER_WINDOW) {
+            let Some(order) = ray_order::plan(window, self.order) else {
+                for chunk in window.chunks(RAYS_PER_BATCH) {
+                    ray_buf.write(bytemuck::cast_slice(chunk))?;
+                    submit(chunk.len())?;
+                    hit_buf.read_into(chunk.len(), &mut hits)?;
+                }
+                continue;
+            };
+            self.reordered.set(self.reordered.get() + window.len() as u64);
+            // Sorted: each submission takes the next rays of the order, gathered straight into
+            // the ray buffer, and its hits go back to their rays' places.
+            let start = hits.len();
+            hits.resize(start + window.len(), crate::layout::cpu_trace::miss());
+            let placed = &mut hits[start..];
+            for part in order.chunks(RAYS_PER_BATCH) {
+                ray_buf.write_with(part.len(), |dst: &mut [GpuRay]| {
+                    ray_order::parallel_zip(part, dst, |part, dst| {
+                        for (d, &i) in dst.iter_mut().zip(part) {
+                            *d = window[i as usize];
+                        }
+                    })
+                })?;
+                submit(part.len())?;
+                hit_buf.read_with(part.len(), |src: &[GpuHit]| {
+                    for (h, &i) in src.iter().zip(part) {
+                        placed[i as usize] = *h;
+                    }
+                })?;
+            }
         }
         Ok(hits)
     }
