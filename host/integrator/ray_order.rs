@@ -6,8 +6,8 @@
 //! way lines the lanes up again (ray reordering: Pharr et al. 1997, "Rendering complex scenes
 //! with memory-coherent ray tracing"; Garanzha & Loop 2010, "Fast ray sorting and
 //! breadth-first packet traversal for GPU ray tracing", whose key, direction cell then origin
-//! cell, this follows). Coherent batches (camera rays in scanline order, shadow rays toward
-//! one light) are left alone: they are lined up already and the sort would only cost.
+//! cell, this follows). Coherent batches (camera rays in scanline order) are left alone: they
+//! are lined up already and the sort would only cost.
 //!
 //! The order changes nothing but speed: every ray's hit is a function of that ray alone, and
 //! the hits go back in the caller's order (tests/ray_order.rs checks it bit for bit).
@@ -17,7 +17,7 @@ use crate::layout::GpuRay;
 /// When to reorder a batch before tracing it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum RayOrder {
-    /// Sort batches that are not coherent already ([`is_coherent`]).
+    /// Sort batches that do not look coherent already ([`looks_coherent`]).
     #[default]
     Auto,
     /// Trace in the given order.
@@ -36,8 +36,8 @@ const ORIGIN_BITS: u32 = 4;
 /// and the top two origin levels (4 x 4 x 4 cells of the bounds).
 const COHERENT_PREFIX_BITS: u32 = 2 * DIRECTION_BITS + 3 * 2;
 /// A batch is coherent when at least this fraction of its neighbouring rays share that prefix.
-/// Camera rays in scanline order share it almost everywhere (> 0.9); rays with random origins
-/// and directions almost nowhere (< 0.01).
+/// Camera rays in scanline order share it nearly everywhere, rays with random origins and
+/// directions nearly nowhere (unit tests below).
 const COHERENT_FRACTION: f64 = 0.5;
 /// Key width: direction cell above origin cell.
 const KEY_BITS: u32 = 2 * DIRECTION_BITS + 3 * ORIGIN_BITS;
