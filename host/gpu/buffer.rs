@@ -129,7 +129,10 @@ impl<'a> Buffer<'a> {
             // SAFETY: the mapping covers `size` >= `len` bytes, is aligned for any T (Vulkan
             // maps at minMemoryMapAlignment >= 64 bytes; T is plain data) and nothing on the
             // GPU uses the buffer now (every submission is waited for).
-            Some(ptr) if count > 0 => fill(unsafe { std::slice::from_raw_parts_mut(ptr as *mut T, count) }),
+            Some(ptr) if count > 0 => {
+                debug_assert_eq!(ptr as usize % std::mem::align_of::<T>(), 0, "mapping of '{}' misaligned", self.name);
+                fill(unsafe { std::slice::from_raw_parts_mut(ptr as *mut T, count) })
+            }
             _ => {
                 let mut staged = vec![T::zeroed(); count];
                 fill(&mut staged);
@@ -148,7 +151,10 @@ impl<'a> Buffer<'a> {
         }
         match self.mapped {
             // SAFETY: as in `write_with`; coherent memory, the GPU is idle.
-            Some(ptr) if count > 0 => take(unsafe { std::slice::from_raw_parts(ptr as *const T, count) }),
+            Some(ptr) if count > 0 => {
+                debug_assert_eq!(ptr as usize % std::mem::align_of::<T>(), 0, "mapping of '{}' misaligned", self.name);
+                take(unsafe { std::slice::from_raw_parts(ptr as *const T, count) })
+            }
             _ => take(&self.read_as::<T>(count)?),
         }
         Ok(())
