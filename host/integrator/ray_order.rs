@@ -17,7 +17,8 @@ use crate::layout::GpuRay;
 /// When to reorder a batch before tracing it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum RayOrder {
-    /// Sort batches that do not look coherent already ([`looks_coherent`]).
+    /// Sort batches that do not look coherent already (judged from a sample of neighbouring
+    /// rays: `looks_coherent`).
     #[default]
     Auto,
     /// Trace in the given order.
