@@ -101,62 +101,25 @@ impl<'a> Buffer<'a> {
 
     /// Copies `bytes` to the start of the buffer.
     pub fn write(&self, bytes: &[u8]) -> Result<()> {
-        if bytes.len() as u64 > self.size {
-            return Err(anyhow!("writing {} bytes into buffer '{}' of {} bytes", bytes.len(), self.name, self.size));
-        }
-        if bytes.is_empty() {
-            return Ok(());
-        }
-        if let Some(ptr) = self.mapped {
-            // SAFETY: the mapping covers `size` bytes and nothing on the GPU uses the buffer now
-            // (every submission is waited for).
-            unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), ptr, bytes.len()) };
-            return Ok(());
-        }
-        let staging = Buffer::new(self.ctx, "staging upload", bytes.len() as u64, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
-        staging.write(bytes)?;
-        copy(self.ctx, &staging, self, bytes.len() as u64)
+        self.write_with(bytes.len(), |dst: &mut [u8]| dst.copy_from_slice(bytes))
     }
 
     /// Lets `fill` write the first `count` values of type T in place: straight into the mapping
-    /// when the buffer is host-visible (no staging copy), else through a staging vector.
+    /// when the buffer is host-visible, else into a mapped staging buffer copied over after.
     pub fn write_with<T: bytemuck::Pod>(&self, count: usize, fill: impl FnOnce(&mut [T])) -> Result<()> {
-        let len = count * std::mem::size_of::<T>();
-        if len as u64 > self.size {
-            return Err(anyhow!("writing {len} bytes into buffer '{}' of {} bytes", self.name, self.size));
+        let len = self.checked_len::<T>(count, "writing")?;
+        if count == 0 {
+            return Ok(());
         }
-        match self.mapped {
-            // SAFETY: the mapping covers `size` >= `len` bytes, is aligned for any T (Vulkan
-            // maps at minMemoryMapAlignment >= 64 bytes; T is plain data) and nothing on the
-            // GPU uses the buffer now (every submission is waited for).
-            Some(ptr) if count > 0 => {
-                debug_assert_eq!(ptr as usize % std::mem::align_of::<T>(), 0, "mapping of '{}' misaligned", self.name);
-                fill(unsafe { std::slice::from_raw_parts_mut(ptr as *mut T, count) })
-            }
-            _ => {
-                let mut staged = vec![T::zeroed(); count];
-                fill(&mut staged);
-                return self.write(bytemuck::cast_slice(&staged));
-            }
-        }
-        Ok(())
-    }
-
-    /// Lets `take` read the first `count` values of type T in place (the read-side twin of
-    /// [`Self::write_with`]).
-    pub fn read_with<T: bytemuck::Pod>(&self, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
-        let len = count * std::mem::size_of::<T>();
-        if len as u64 > self.size {
-            return Err(anyhow!("reading {len} bytes from buffer '{}' of {} bytes", self.name, self.size));
-        }
-        match self.mapped {
-            // SAFETY: as in `write_with`; coherent memory, the GPU is idle.
-            Some(ptr) if count > 0 => {
-                debug_assert_eq!(ptr as usize % std::mem::align_of::<T>(), 0, "mapping of '{}' misaligned", self.name);
-                take(unsafe { std::slice::from_raw_parts(ptr as *const T, count) })
-            }
-            _ => take(&self.read_as::<T>(count)?),
-        }
+        let Some(ptr) = self.mapped_as::<T>() else {
+            let staging = Buffer::new(self.ctx, "staging upload", len, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
+            staging.write_with(count, fill)?;
+            return copy(self.ctx, &staging, self, len);
+        };
+        // SAFETY: the mapping covers `size` >= `len` bytes and is aligned for T (`mapped_as`),
+        // T is plain data, and nothing on the GPU uses the buffer now (every submission is
+        // waited for).
+        fill(unsafe { std::slice::from_raw_parts_mut(ptr, count) });
         Ok(())
     }
 
@@ -185,24 +148,41 @@ impl<'a> Buffer<'a> {
     /// hits is 32 MiB: each extra copy into fresh memory cost tens of milliseconds in page
     /// faults on lavapipe).
     pub fn read_into<T: bytemuck::Pod>(&self, count: usize, out: &mut Vec<T>) -> Result<()> {
-        let len = count * std::mem::size_of::<T>();
-        if len as u64 > self.size {
-            return Err(anyhow!("reading {len} bytes from buffer '{}' of {} bytes", self.name, self.size));
-        }
+        self.read_with(count, |src: &[T]| out.extend_from_slice(src))
+    }
+
+    /// Lets `take` read the first `count` values of type T in place (the read-side twin of
+    /// [`Self::write_with`]).
+    pub fn read_with<T: bytemuck::Pod>(&self, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
+        let len = self.checked_len::<T>(count, "reading")?;
         if count == 0 {
             return Ok(());
         }
-        let Some(ptr) = self.mapped else {
-            let staging = Buffer::new(self.ctx, "staging read-back", len as u64, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
-            copy(self.ctx, self, &staging, len as u64)?;
-            return staging.read_into(count, out);
+        let Some(ptr) = self.mapped_as::<T>() else {
+            let staging = Buffer::new(self.ctx, "staging read-back", len, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
+            copy(self.ctx, self, &staging, len)?;
+            return staging.read_with(count, take);
         };
-        let start = out.len();
-        out.resize(start + count, T::zeroed());
-        let dst: &mut [u8] = bytemuck::cast_slice_mut(&mut out[start..]);
-        // SAFETY: as in `write`; coherent memory, the GPU is idle, `dst` is `len` bytes.
-        unsafe { std::ptr::copy_nonoverlapping(ptr, dst.as_mut_ptr(), len) };
+        // SAFETY: as in `write_with`; coherent memory, the GPU is idle.
+        take(unsafe { std::slice::from_raw_parts(ptr, count) });
         Ok(())
+    }
+
+    /// The bytes `count` values of T take, or an error naming the buffer if they do not fit.
+    fn checked_len<T>(&self, count: usize, doing: &str) -> Result<u64> {
+        let len = (count * std::mem::size_of::<T>()) as u64;
+        if len > self.size {
+            return Err(anyhow!("{doing} {len} bytes in buffer '{}' of {} bytes", self.name, self.size));
+        }
+        Ok(len)
+    }
+
+    /// The mapping as a pointer to T, if the buffer is mapped. Vulkan maps at
+    /// minMemoryMapAlignment (at least 64 bytes), enough for any T vkrt reads or writes.
+    fn mapped_as<T>(&self) -> Option<*mut T> {
+        let ptr = self.mapped?;
+        debug_assert_eq!(ptr as usize % std::mem::align_of::<T>(), 0, "mapping of '{}' misaligned", self.name);
+        Some(ptr as *mut T)
     }
 }
 
