@@ -4,13 +4,26 @@
 #ifndef VKRT_LIGHTS_GLSL
 #define VKRT_LIGHTS_GLSL
 
-// Entry j of the table with probability load_light_pick(j).pmf (Vose 1991).
-uint pick_light(float u, out float pmf) {
+// Entry j of the table with probability load_light_pick(j).pmf (Vose 1991). u is consumed and
+// given back rescaled to [0, 1) within the part of [0, 1) that chose j, so that the caller can
+// reuse it: points drawn with it stay stratified over the union of the emitters instead of each
+// emitter getting a random subset of the samples (Pharr, Jakob & Humphreys, PBRT 3rd ed.,
+// section 13.3, "sample reuse").
+uint pick_light(inout float u, out float pmf) {
     uint n = params.pick_count;
     float x = u * float(n);
     uint i = min(uint(x), n - 1u);
     GpuLightPick e = load_light_pick(i);
-    uint j = (x - float(i)) < e.threshold ? i : e.alias;
+    float f = x - float(i);
+    uint j;
+    if (f < e.threshold) {
+        j = i;
+        u = f / e.threshold;
+    } else {
+        j = e.alias;
+        u = (f - e.threshold) / (1.0 - e.threshold);
+    }
+    u = min(u, ONE_MINUS_EPSILON);
     pmf = load_light_pick(j).pmf;
     return j;
 }
@@ -34,7 +47,7 @@ struct LightSample {
 
 // Samples a light as seen from p (geometric normal ng on the side being lit, ray origin
 // `origin`). Returns false if the light sample faces away or carries nothing.
-bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls) {
+bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
     ls.wi = vec3(0.0, 0.0, 1.0);
     ls.li_over_pdf = vec3(0.0);
     ls.pdf = 0.0;
@@ -42,7 +55,7 @@ bool sample_light(vec3 p, vec3 origin, float u_pick, vec2 u, out LightSample ls)
     ls.span_tmax = 0.0;
     if (params.pick_count == 0u) return false;
     float pmf;
-    uint j = pick_light(u_pick, pmf);
+    uint j = pick_light(u.x, pmf);
     if (pmf <= 0.0) return false;
     if (HAS_EMITTERS && j < frame.emitter_count) {
         GpuEmitter em = load_emitter(j);

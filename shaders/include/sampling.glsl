@@ -3,6 +3,8 @@
 #define VKRT_SAMPLING_GLSL
 
 const float PI = 3.14159265358979;
+// The largest float below 1 (0x1.fffffep-1): where a rescaled sample must stay inside [0, 1).
+const float ONE_MINUS_EPSILON = 0.99999994;
 
 // An orthonormal basis around unit n (Duff et al. 2017, "Building an orthonormal basis,
 // revisited", JCGT 6(1)): branchless and continuous except at n.z = 0's sign flip.
