@@ -53,6 +53,11 @@ pub struct PathArgs {
     /// with the noise in short horizontal streaks. 1: every pixel its own numbers.
     #[arg(long, default_value_t = 1)]
     pub coherence: u32,
+    /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of
+    /// --coherence pixels takes samples in proportion to the noise the pilot showed around it
+    /// (not in it, which keeps the image unbiased); --spp is then the mean over the pixels.
+    #[arg(long)]
+    pub adaptive: bool,
 }
 
 /// What the render command passes on.
@@ -106,6 +111,7 @@ pub fn render(ctx: &Context, scene: &scene::Scene, gpu: &GpuScene, run: &PathRun
         sample_rate: a.sample_rate,
         nee: !a.no_nee,
         coherence: a.coherence,
+        adaptive: a.adaptive,
         stop,
     };
     let ours = run_settings(run, &settings)?;
@@ -147,7 +153,8 @@ pub fn render(ctx: &Context, scene: &scene::Scene, gpu: &GpuScene, run: &PathRun
     let image = acc.image();
     write_with_preview(run.output, &image)?;
     let err = acc.estimate_relmse().map_or(String::new(), |e| format!(", estimated relMSE {e:.3e}"));
-    eprintln!("path tracer: {} spp{err}", acc.samples);
+    let mean = if acc.per_pixel { " (mean over the pixels, adaptive)" } else { "" };
+    eprintln!("path tracer: {} spp{mean}{err}", acc.samples);
     if stats.interrupted {
         let saved = a.checkpoint.as_ref().map_or(String::new(), |p| format!(" and checkpoint {}", p.display()));
         bail!("interrupted after {} spp; wrote {}{saved}", acc.samples, run.output.display());

@@ -114,12 +114,15 @@ void main() {
     uvec2 pixel = uvec2(push.tile_x, push.tile_y) + gl_GlobalInvocationID.xy;
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;
     uint index = pixel.y * frame.width + pixel.x;
+    uint key = sample_key(pixel, frame.width, params.coherence);
+    uvec2 samples = uvec2(push.sample_base, push.sample_count);
+    if (params.adaptive != 0u) samples = block_samples[key];
     vec3 sum = vec3(0.0);
     vec3 sum_even = vec3(0.0);
     float dropped = 0.0;
-    for (uint k = 0u; k < push.sample_count; k++) {
-        uint sample_index = push.sample_base + k;
-        Sampler smp = sampler_init(params.sampler_kind, sample_key(pixel, frame.width, params.coherence), sample_index, frame.seed, params.sample_rate);
+    for (uint k = 0u; k < samples.y; k++) {
+        uint sample_index = samples.x + k;
+        Sampler smp = sampler_init(params.sampler_kind, key, sample_index, frame.seed, params.sample_rate);
         vec3 dir = camera_ray_direction(frame, vec2(pixel) + sampler_pixel(smp));
         vec3 c = radiance(frame.cam_origin, dir, smp);
         // NaN and Inf never enter the accumulation buffers: count them instead.
@@ -131,5 +134,5 @@ void main() {
         }
     }
     accum[index] += vec4(sum, dropped);
-    accum_even[index] += vec4(sum_even, 0.0);
+    accum_even[index] += vec4(sum_even, float(samples.y));
 }

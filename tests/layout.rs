@@ -105,7 +105,7 @@ fn every_gpu_struct_matches_its_glsl_mirror() {
         rust_fields!(GpuRay { origin, tmin, direction, tmax }),
         rust_fields!(GpuHit { t, prim, u, v, nodes_visited, tris_tested, _pad0, _pad1 }),
         rust_fields!(GpuLightPick { pmf, alias, threshold, _pad0 }),
-        rust_fields!(GpuPathParams { max_depth, rr_depth, sampler_kind, sample_rate, pick_count, nee, inv_total_weight, coherence }),
+        rust_fields!(GpuPathParams { max_depth, rr_depth, sampler_kind, sample_rate, pick_count, nee, inv_total_weight, coherence, adaptive, _pad0, _pad1, _pad2 }),
     ];
     for (name, size, fields) in expected {
         let s = structs.get(name).unwrap_or_else(|| panic!("struct {name} is missing from the SPIR-V"));
@@ -134,6 +134,7 @@ fn bindings_and_array_strides_match() {
         (BINDING_LIGHT_PICKS, "LightPicks", size_of::<GpuLightPick>()),
         (BINDING_PATH_PARAMS, "PathParams", size_of::<GpuPathParams>()),
         (BINDING_ACCUM_EVEN, "AccumEven", 16),
+        (BINDING_BLOCK_SAMPLES, "BlockSamples", 8),
         (BINDING_TEXTURES, "Textures", size_of::<GpuTexture>()),
         (BINDING_TEXELS, "Texels", 4),
         (BINDING_UVS, "Uvs", size_of::<GpuUv>()),

@@ -16,14 +16,18 @@ fn cornell() -> vkrt::scene::Scene {
     vkrt::scene::load_scene(&common::repo_path(SCENE)).unwrap()
 }
 
-fn render(settings: &PathSettings, resume: Option<Accumulation>) -> Accumulation {
+fn try_render(settings: &PathSettings, resume: Option<Accumulation>) -> anyhow::Result<Accumulation> {
     let scene = cornell();
     let ctx = common::gpu_context();
     let prepared = PreparedScene::new(&scene, vkrt::bvh::BuilderKind::Sah, &vkrt::bvh::BuildConfig::default()).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-    let (acc, _) = path::render(&ctx, &scene, &gpu, settings, resume, &mut Hooks::default()).unwrap();
+    let result = path::render(&ctx, &scene, &gpu, settings, resume, &mut Hooks::default());
     common::assert_no_validation_messages(&ctx);
-    acc
+    result.map(|(acc, _)| acc)
+}
+
+fn render(settings: &PathSettings, resume: Option<Accumulation>) -> Accumulation {
+    try_render(settings, resume).unwrap()
 }
 
 #[test]
@@ -34,6 +38,31 @@ fn resuming_continues_the_same_samples_bit_for_bit() {
     let resumed = render(&common::path_settings(32, 32, 8), Some(half));
     assert_eq!(resumed.samples, 8);
     assert!(resumed.sum == straight.sum && resumed.even == straight.even, "4 + 4 resumed spp differ from 8 spp in one run");
+}
+
+/// An adaptive run resumed inside its pilot and after it takes the very same samples as one
+/// run straight through (the rates travel in the sums, and each block goes on from its own count).
+#[test]
+fn adaptive_runs_resume_bit_for_bit() {
+    let settings = |spp: u64| {
+        let mut s = common::path_settings(32, 32, spp);
+        s.adaptive = true;
+        s.coherence = 8;
+        s
+    };
+    let straight = render(&settings(24), None);
+    assert!(straight.per_pixel && !straight.rates.is_empty());
+    let counts: Vec<u64> = (0..straight.sum.len()).map(|p| straight.counts(p).0).collect();
+    assert!(counts.iter().any(|&n| n != counts[0]), "every pixel took the same count: nothing adapted");
+    assert!(counts.iter().all(|&n| n >= 8 && n % 2 == 0), "a pixel missed its pilot or has an odd count");
+    let in_pilot = render(&settings(8), None);
+    assert!(in_pilot.rates.is_empty() || (0..in_pilot.sum.len()).all(|p| in_pilot.counts(p).0 == 8));
+    let resumed = render(&settings(24), Some(in_pilot));
+    assert!(resumed.sum == straight.sum && resumed.even == straight.even, "8 + 16 resumed spp differ from 24 in one run");
+    let past_pilot = render(&settings(16), None);
+    let resumed = render(&settings(24), Some(past_pilot));
+    assert!(resumed.sum == straight.sum && resumed.even == straight.even, "16 + 8 resumed spp differ from 24 in one run");
+    assert!(try_render(&common::path_settings(32, 32, 32), Some(straight)).is_err(), "an adaptive run resumed as a uniform one");
 }
 
 #[test]

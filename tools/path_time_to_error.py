@@ -26,10 +26,10 @@ import sys
 import time
 
 
-def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence):
+def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence, adaptive=False):
     cmd = [binary, "render", scene, "-o", out, "--integrator", "path", "--width", str(width),
            "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed),
-           "--coherence", str(coherence)]
+           "--coherence", str(coherence)] + (["--adaptive"] if adaptive else [])
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         sys.exit(f"vkrt failed: {' '.join(cmd)}\n{res.stderr}")
@@ -148,6 +148,8 @@ def main():
     ap.add_argument("--samplers", nargs="+", default=["sobol", "independent"])
     ap.add_argument("--coherence", type=int, nargs="+", default=[1],
                     help="vkrt --coherence values to run each sampler with (1: every pixel its own numbers)")
+    ap.add_argument("--sampling", nargs="+", choices=["uniform", "adaptive"], default=["uniform"],
+                    help="vkrt sample allocations to run (adaptive: --adaptive, only at 8 spp or more)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--vkrt", default="target/release/vkrt")
     ap.add_argument("--out", default="target/bench/path")
@@ -163,15 +165,16 @@ def main():
     os.makedirs(args.out, exist_ok=True)
 
     rows = []
-    for coherence in args.coherence:
-        for sampler in args.samplers:
-            name = sampler if coherence == 1 else f"{sampler} coherence {coherence}"
-            for spp in args.spp:
-                img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence}-{spp}.exr")
-                secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence)
-                rel = vkrt_compare(args.vkrt, img, args.reference)
-                rows.append((f"vkrt {name} (lavapipe)", spp, secs, rel))
-                print(f"vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
+    for coherence, sampler, sampling in [(c, s, a) for c in args.coherence for s in args.samplers for a in args.sampling]:
+        adaptive = sampling == "adaptive"
+        name = sampler if coherence == 1 else f"{sampler} coherence {coherence}"
+        name += " adaptive" if adaptive else ""
+        for spp in [n for n in args.spp if n >= 8 or not adaptive]:
+            img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence}{'-adaptive' if adaptive else ''}-{spp}.exr")
+            secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
+            rel = vkrt_compare(args.vkrt, img, args.reference)
+            rows.append((f"vkrt {name} (lavapipe)", spp, secs, rel))
+            print(f"vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
     if not args.no_mitsuba:
         rows += run_mitsuba(args, args.spp, args.reference)
 

@@ -1,6 +1,8 @@
 //! A progressive render's running sums: what the GPU accumulates, what checkpoints store and
 //! what `vkrt merge` adds. The image is the sum over the sample count (a box filter: every
-//! sample of a pixel lands inside it, weight 1).
+//! sample of a pixel lands inside it, weight 1). Uniform runs take the same count in every
+//! pixel; adaptive runs (`integrator::adaptive`) an even count of its own per pixel, kept in
+//! `even[p][3]`, half of it even-indexed.
 
 use super::Image;
 use anyhow::{bail, Result};
@@ -10,66 +12,103 @@ use anyhow::{bail, Result};
 pub struct Accumulation {
     pub width: u32,
     pub height: u32,
-    /// Samples taken per pixel (sample indices 0 .. samples of each seed).
+    /// Samples taken per pixel (sample indices 0 .. samples of each seed); for adaptive runs
+    /// the mean over the pixels, rounded down (the counts are in `even[p][3]`).
     pub samples: u64,
-    /// Samples whose index is even, per pixel: the size of the first half-image.
+    /// Samples whose index is even, per pixel: the size of the first half-image (uniform runs).
     pub even_samples: u64,
     /// rgb: radiance sum of all samples; w: samples dropped as NaN or infinite.
     pub sum: Vec<[f32; 4]>,
-    /// rgb: radiance sum of the even-indexed samples.
+    /// rgb: radiance sum of the even-indexed samples; w: the pixel's sample count.
     pub even: Vec<[f32; 4]>,
+    /// Adaptive run: each pixel has its own (even) sample count, `even[p][3]`.
+    pub per_pixel: bool,
+    /// Adaptive run past its pilot: samples per round of each coherence block
+    /// (`integrator::adaptive::block_rates`); empty otherwise.
+    pub rates: Vec<u32>,
 }
 
 impl Accumulation {
     pub fn new(width: u32, height: u32) -> Self {
         let n = width as usize * height as usize;
-        Self { width, height, samples: 0, even_samples: 0, sum: vec![[0.0; 4]; n], even: vec![[0.0; 4]; n] }
+        Self {
+            width,
+            height,
+            samples: 0,
+            even_samples: 0,
+            sum: vec![[0.0; 4]; n],
+            even: vec![[0.0; 4]; n],
+            per_pixel: false,
+            rates: Vec::new(),
+        }
     }
 
-    fn mean_of(&self, sums: impl Iterator<Item = [f32; 3]>, count: u64) -> Image {
-        let inv = if count > 0 { 1.0 / count as f64 } else { 0.0 };
+    /// Pixel p's sample count, and the even-indexed part of it.
+    pub fn counts(&self, p: usize) -> (u64, u64) {
+        if self.per_pixel {
+            let n = self.even[p][3] as u64;
+            (n, n / 2)
+        } else {
+            (self.samples, self.even_samples)
+        }
+    }
+
+    /// Each pixel's sum (of `sums`) over its count (`count(p)`).
+    fn mean_of(&self, sums: impl Iterator<Item = [f32; 3]>, count: impl Fn(usize) -> u64) -> Image {
         Image {
             width: self.width,
             height: self.height,
-            pixels: sums.map(|s| s.map(|c| (c as f64 * inv) as f32)).collect(),
+            pixels: sums
+                .enumerate()
+                .map(|(p, s)| {
+                    let n = count(p);
+                    let inv = if n > 0 { 1.0 / n as f64 } else { 0.0 };
+                    s.map(|c| (c as f64 * inv) as f32)
+                })
+                .collect(),
         }
     }
 
     /// The image: each pixel's mean sample.
     pub fn image(&self) -> Image {
-        self.mean_of(self.sum.iter().map(|s| [s[0], s[1], s[2]]), self.samples)
+        self.mean_of(self.sum.iter().map(|s| [s[0], s[1], s[2]]), |p| self.counts(p).0)
     }
 
     /// The two independent half-images: even-indexed samples and odd-indexed ones.
     pub fn halves(&self) -> (Image, Image) {
         let odd = self.sum.iter().zip(&self.even).map(|(s, e)| [s[0] - e[0], s[1] - e[1], s[2] - e[2]]);
-        let odd = self.mean_of(odd, self.samples - self.even_samples);
-        (self.mean_of(self.even.iter().map(|e| [e[0], e[1], e[2]]), self.even_samples), odd)
+        let odd = self.mean_of(odd, |p| {
+            let (n, e) = self.counts(p);
+            n - e
+        });
+        (self.mean_of(self.even.iter().map(|e| [e[0], e[1], e[2]]), |p| self.counts(p).1), odd)
     }
 
     /// Estimated relMSE of `image()` against the converged image, from the spread of the two
     /// half-images A and B (independent, unbiased): E[(A - B)^2] = var(A) + var(B), and var(A)
     /// = s^2 / n_a, so var(image) = s^2 / n = E[(A - B)^2] / (n (1/n_a + 1/n_b)). The
     /// denominator uses the full image for the unknown truth, as `../shared/refs` does.
-    /// `None` until each half has a sample.
+    /// Adaptive runs: the same per pixel, with each pixel's own counts. `None` until each half
+    /// of every pixel has a sample.
     pub fn estimate_relmse(&self) -> Option<f64> {
-        let (na, nb) = (self.even_samples, self.samples - self.even_samples);
-        if na == 0 || nb == 0 {
-            return None;
-        }
         let (a, b) = self.halves();
         let full = self.image();
         let mut total = 0.0f64;
-        for ((pa, pb), pf) in a.pixels.iter().zip(&b.pixels).zip(&full.pixels) {
+        for (p, ((pa, pb), pf)) in a.pixels.iter().zip(&b.pixels).zip(&full.pixels).enumerate() {
+            let (n, na) = self.counts(p);
+            let nb = n - na;
+            if na == 0 || nb == 0 {
+                return None;
+            }
+            let mut spread = 0.0f64;
             for c in 0..3 {
                 let d = (pa[c] - pb[c]) as f64;
                 let f = pf[c] as f64;
-                total += d * d / (f * f + 0.01);
+                spread += d * d / (f * f + 0.01);
             }
+            total += spread / (n as f64 * (1.0 / na as f64 + 1.0 / nb as f64));
         }
-        let spread = total / (a.pixels.len() * 3).max(1) as f64;
-        let n = self.samples as f64;
-        Some(spread / (n * (1.0 / na as f64 + 1.0 / nb as f64)))
+        Some(total / (a.pixels.len() * 3).max(1) as f64)
     }
 
     /// Samples dropped as NaN or infinite, over all pixels.
@@ -83,6 +122,9 @@ impl Accumulation {
         if (self.width, self.height) != (other.width, other.height) {
             bail!("image sizes differ: {}x{} and {}x{}", self.width, self.height, other.width, other.height);
         }
+        if self.per_pixel != other.per_pixel {
+            bail!("one run is adaptive and the other is not");
+        }
         for (a, b) in self.sum.iter_mut().zip(&other.sum).chain(self.even.iter_mut().zip(&other.even)) {
             for c in 0..4 {
                 a[c] = (a[c] as f64 + b[c] as f64) as f32;
@@ -90,6 +132,8 @@ impl Accumulation {
         }
         self.samples += other.samples;
         self.even_samples += other.even_samples;
+        // Each seed's allocation was its own: the merged sums cannot go on with either.
+        self.rates.clear();
         Ok(())
     }
 }

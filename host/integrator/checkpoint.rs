@@ -4,7 +4,8 @@
 //!
 //! Format (little-endian): magic `VKRTCKPT`, version u32, then the settings (strings as u32
 //! length + UTF-8), samples u64, even_samples u64, then width * height * 4 f32 of `sum` and as
-//! many of `even`. Written to a temporary file beside the target and renamed into place, so a
+//! many of `even`, then (version 3) per_pixel u32 (1: adaptive run, counts in `even`'s w) and
+//! the adaptive block rates as a u32 count and that many u32. Written to a temporary file beside the target and renamed into place, so a
 //! crash never leaves a half-written checkpoint under the real name.
 
 use super::accumulation::Accumulation;
@@ -12,9 +13,11 @@ use anyhow::{bail, Context as _, Result};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"VKRTCKPT";
-const VERSION: u32 = 2;
+const VERSION: u32 = 3;
 /// The format before `coherence` was stored (still read, as coherence 1).
 const VERSION_BEFORE_COHERENCE: u32 = 1;
+/// The format before adaptive runs (still read, as a uniform run).
+const VERSION_BEFORE_ADAPTIVE: u32 = 2;
 
 /// The settings a checkpoint must agree on to be resumed or merged.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -150,6 +153,11 @@ impl Checkpoint {
                 out.extend_from_slice(&c.to_le_bytes());
             }
         }
+        out.extend_from_slice(&(self.accum.per_pixel as u32).to_le_bytes());
+        out.extend_from_slice(&(self.accum.rates.len() as u32).to_le_bytes());
+        for r in &self.accum.rates {
+            out.extend_from_slice(&r.to_le_bytes());
+        }
         out
     }
 
@@ -159,8 +167,8 @@ impl Checkpoint {
             bail!("not a vkrt checkpoint (bad magic)");
         }
         let version = r.u32("version")?;
-        if version != VERSION && version != VERSION_BEFORE_COHERENCE {
-            bail!("checkpoint version {version}; this vkrt reads versions {VERSION_BEFORE_COHERENCE} and {VERSION}");
+        if !(VERSION_BEFORE_COHERENCE..=VERSION).contains(&version) {
+            bail!("checkpoint version {version}; this vkrt reads versions {VERSION_BEFORE_COHERENCE} to {VERSION}");
         }
         let scene_path = r.string("scene_path")?;
         let scene_hash = r.u64("scene_hash")?;
@@ -183,6 +191,19 @@ impl Checkpoint {
         let pixels = width as usize * height as usize;
         let sum = r.floats(pixels, "sum")?;
         let even = r.floats(pixels, "even")?;
+        let (mut per_pixel, mut rates) = (false, Vec::new());
+        if version > VERSION_BEFORE_ADAPTIVE {
+            per_pixel = match r.u32("per_pixel")? {
+                0 => false,
+                1 => true,
+                v => bail!("field `per_pixel` is {v}, not 0 or 1"),
+            };
+            let n = r.u32("rate count")? as usize;
+            if n > pixels {
+                bail!("field `rate count` is {n}, more than the {pixels} pixels");
+            }
+            rates = (0..n).map(|_| r.u32("rates")).collect::<Result<Vec<_>>>()?;
+        }
         if r.pos != data.len() {
             bail!("{} unexpected bytes after the data", data.len() - r.pos);
         }
@@ -200,7 +221,7 @@ impl Checkpoint {
                 nee,
                 coherence,
             },
-            accum: Accumulation { width, height, samples, even_samples, sum, even },
+            accum: Accumulation { width, height, samples, even_samples, sum, even, per_pixel, rates },
         })
     }
 
@@ -285,14 +306,24 @@ mod tests {
         let s = &c.settings;
         let at = 8 + 4 + (4 + s.scene_path.len()) + 8 + 12 + 4 * s.seeds.len() + (4 + s.integrator.len()) + 16;
         assert_eq!(v2[at..at + 4], 8u32.to_le_bytes());
+        // Version 1 also lacks version 3's adaptive fields at the end (two zero words here).
+        let v2 = &v2[..v2.len() - 8];
         let mut v1 = [&v2[..at], &v2[at + 4..]].concat();
         v1[8..12].copy_from_slice(&VERSION_BEFORE_COHERENCE.to_le_bytes());
         let read = Checkpoint::from_bytes(&v1).unwrap();
         assert_eq!(read.settings.coherence, 1);
         assert_eq!(read.accum, c.accum);
-        let mut future = v2.clone();
+        let mut future = c.to_bytes();
         future[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
         assert!(Checkpoint::from_bytes(&future).is_err(), "a newer version was accepted");
+    }
+
+    #[test]
+    fn adaptive_fields_round_trip() {
+        let mut c = sample(4);
+        c.accum.per_pixel = true;
+        c.accum.rates = vec![2, 4, 32];
+        assert_eq!(Checkpoint::from_bytes(&c.to_bytes()).ok().as_ref(), Some(&c));
     }
 
     #[test]

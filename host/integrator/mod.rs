@@ -1,6 +1,7 @@
 //! Integrators: compute shaders that turn a scene on the GPU into an image.
 
 pub mod accumulation;
+pub mod adaptive;
 pub mod checkpoint;
 pub mod frame;
 pub mod gpu_scene;

@@ -2,6 +2,7 @@
 //! buffers, and the loop of short sample batches that runs until a stop condition holds.
 
 use super::accumulation::Accumulation;
+use super::adaptive::{block_rates, round_counts, BlockGrid, PILOT_SPP};
 use super::frame::{frame_for, scene_scale, INTEGRATOR_BINDINGS};
 use super::gpu_scene::GpuScene;
 use super::light_table::LightTable;
@@ -70,6 +71,10 @@ pub struct PathSettings {
     /// which shows as short horizontal streaks in the noise (BENCHMARKS.md, "Coherent
     /// sampling").
     pub coherence: u32,
+    /// Adaptive sampling (`integrator::adaptive`): after a uniform pilot of `PILOT_SPP`, each
+    /// coherence block takes samples in proportion to the noise the pilot showed around it.
+    /// Unbiased; `stop.spp` is then the mean over the pixels.
+    pub adaptive: bool,
     pub stop: Stop,
 }
 
@@ -82,6 +87,7 @@ impl Default for PathSettings {
             sample_rate: 4,
             nee: true,
             coherence: 1,
+            adaptive: false,
             stop: Stop { spp: Some(16), ..Stop::default() },
         }
     }
@@ -122,6 +128,7 @@ pub const PATH_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_LIGHT_PICKS, BindingKind::Texels),
     (BINDING_PATH_PARAMS, BindingKind::Uniform),
     (BINDING_ACCUM_EVEN, BindingKind::Storage),
+    (BINDING_BLOCK_SAMPLES, BindingKind::Storage),
 ];
 
 /// The settings as the shader reads them, and the light table.
@@ -151,18 +158,68 @@ pub fn path_params(scene: &Scene, settings: &PathSettings) -> Result<(GpuPathPar
         nee: settings.nee as u32,
         inv_total_weight: if table.total_weight > 0.0 { (1.0 / table.total_weight) as f32 } else { 0.0 },
         coherence: settings.coherence,
+        adaptive: settings.adaptive as u32,
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
     };
     Ok((params, table))
 }
 
-fn read_accumulation(sum: &Buffer, even: &Buffer, width: u32, height: u32, samples: u64) -> Result<Accumulation> {
-    let pixels = width as usize * height as usize;
-    let mut acc = Accumulation::new(width, height);
+/// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and the
+/// adaptive rates). `samples`: per pixel, or the mean for per-pixel counts.
+fn read_accumulation(sum: &Buffer, even: &Buffer, like: &Accumulation, samples: u64) -> Result<Accumulation> {
+    let pixels = like.width as usize * like.height as usize;
+    let mut acc = Accumulation::new(like.width, like.height);
     acc.sum = sum.read_as(pixels).context("reading the accumulation buffer")?;
     acc.even = even.read_as(pixels).context("reading the even-sample buffer")?;
     acc.samples = samples;
-    acc.even_samples = samples.div_ceil(2);
+    acc.even_samples = if like.per_pixel { samples / 2 } else { samples.div_ceil(2) };
+    acc.per_pixel = like.per_pixel;
+    acc.rates = like.rates.clone();
     Ok(acc)
+}
+
+/// An adaptive run's per-block progress: samples taken so far by each coherence block (every
+/// pixel of a block has the same count) and over all pixels.
+struct AdaptiveState {
+    grid: BlockGrid,
+    done: Vec<u32>,
+    total: u64,
+}
+
+impl AdaptiveState {
+    fn new(acc: &Accumulation, grid: BlockGrid) -> Self {
+        let done: Vec<u32> = (0..grid.count())
+            .map(|key| {
+                let (y, cols) = grid.pixels(key);
+                acc.counts((y * grid.width + cols.start) as usize).0 as u32
+            })
+            .collect();
+        let total = done.iter().enumerate().map(|(k, &n)| n as u64 * grid.pixels(k).1.len() as u64).sum();
+        Self { grid, done, total }
+    }
+
+    /// Each block's (first sample, count) for the next batch: the pilot in batches of `batch`
+    /// (rounded up to even), then one round of `rates`, cut to what is left of `budget` (total
+    /// samples over all pixels) if given.
+    fn next_batch(&self, rates: &[u32], batch: u64, budget: Option<u64>) -> Vec<[u32; 2]> {
+        let pilot_left = PILOT_SPP.saturating_sub(self.done.iter().copied().min().unwrap_or(PILOT_SPP));
+        let counts: Vec<u32> = if pilot_left > 0 {
+            let step = (batch.div_ceil(2) * 2).min(pilot_left as u64) as u32;
+            self.done.iter().map(|&d| step.min(PILOT_SPP.saturating_sub(d))).collect()
+        } else {
+            round_counts(rates, self.grid, budget.map_or(u64::MAX, |b| b.saturating_sub(self.total)))
+        };
+        self.done.iter().zip(counts).map(|(&d, c)| [d, c]).collect()
+    }
+
+    fn advance(&mut self, batch: &[[u32; 2]]) {
+        for (k, (d, b)) in self.done.iter_mut().zip(batch).enumerate() {
+            *d += b[1];
+            self.total += b[1] as u64 * self.grid.pixels(k).1.len() as u64;
+        }
+    }
 }
 
 /// Renders `scene` progressively, continuing `resume` if given (its sums and count; samples go
@@ -184,10 +241,22 @@ pub fn render(
         bail!("no stop condition: give a sample count, a time or a target error");
     }
     let start = Instant::now();
-    let mut acc = resume.unwrap_or_else(|| Accumulation::new(img.width, img.height));
+    let mut acc = resume.unwrap_or_else(|| {
+        let mut a = Accumulation::new(img.width, img.height);
+        a.per_pixel = settings.adaptive;
+        a
+    });
     if (acc.width, acc.height) != (img.width, img.height) {
         bail!("resumed sums are {}x{}, the render is {}x{}", acc.width, acc.height, img.width, img.height);
     }
+    if acc.per_pixel != settings.adaptive {
+        bail!("the resumed run {} adaptive and this one {}", if acc.per_pixel { "is" } else { "is not" }, if settings.adaptive { "is" } else { "is not" });
+    }
+    if settings.adaptive && stop.spp.is_some_and(|n| n < PILOT_SPP as u64) {
+        bail!("adaptive sampling needs at least {PILOT_SPP} spp (its uniform pilot); got {}", stop.spp.unwrap_or(0));
+    }
+    let grid = BlockGrid { width: img.width, height: img.height, coherence: settings.coherence.max(1) };
+    let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     let mut stats = RenderStats::default();
     let (params, table) = path_params(scene, settings)?;
     let frame: GpuFrame = frame_for(scene, img, gpu.light_count, gpu.emitter_count)?;
@@ -203,6 +272,9 @@ pub fn render(
     let even_buf = Buffer::new(ctx, "accumulation (even samples)", pixels * 16, storage, MemoryLocation::Device)?;
     sum_buf.write(bytemuck::cast_slice(&acc.sum))?;
     even_buf.write(bytemuck::cast_slice(&acc.even))?;
+    // Written before each batch of an adaptive run; one unused entry otherwise.
+    let blocks = if settings.adaptive { grid.count() as u64 } else { 1 };
+    let block_buf = Buffer::new(ctx, "block samples", blocks * 8, storage, MemoryLocation::Device)?;
     let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
     let spv = shaders::for_layout("path", gpu.layout)?;
     let features = img.features(scene);
@@ -223,6 +295,7 @@ pub fn render(
             (BINDING_ACCUM, &sum_buf),
             (BINDING_PATH_PARAMS, &params_buf),
             (BINDING_ACCUM_EVEN, &even_buf),
+            (BINDING_BLOCK_SAMPLES, &block_buf),
         ],
     )?;
 
@@ -247,26 +320,46 @@ pub fn render(
             stats.interrupted = true;
             break;
         }
-        let count = stop.spp.map_or(batch, |n| batch.min(n - samples));
-        if samples + count > u32::MAX as u64 {
-            bail!("sample index past 2^32");
-        }
         let t_batch = Instant::now();
-        if !empty {
-            dispatch_samples(ctx, &scene_push, &pipeline, "path tile", img, samples as u32, count as u32, 0, &mut || stats.submissions += 1)?;
+        if let Some(state) = adaptive.as_mut() {
+            if state.done.iter().all(|&d| d >= PILOT_SPP) && acc.rates.is_empty() {
+                acc = read_accumulation(&sum_buf, &even_buf, &acc, samples)?;
+                acc.rates = block_rates(&acc, grid);
+            }
+            let next = state.next_batch(&acc.rates, batch, stop.spp.map(|n| n * pixels));
+            if next.iter().all(|b| b[1] == 0) {
+                break;
+            }
+            if next.iter().any(|b| b[0] as u64 + b[1] as u64 > u32::MAX as u64) {
+                bail!("sample index past 2^32");
+            }
+            block_buf.write(bytemuck::cast_slice(&next))?;
+            if !empty {
+                dispatch_samples(ctx, &scene_push, &pipeline, "path tile", img, 0, 0, 0, &mut || stats.submissions += 1)?;
+            }
+            state.advance(&next);
+            samples = state.total / pixels;
+        } else {
+            let count = stop.spp.map_or(batch, |n| batch.min(n - samples));
+            if samples + count > u32::MAX as u64 {
+                bail!("sample index past 2^32");
+            }
+            if !empty {
+                dispatch_samples(ctx, &scene_push, &pipeline, "path tile", img, samples as u32, count as u32, 0, &mut || stats.submissions += 1)?;
+            }
+            samples += count;
         }
         last_batch_s = t_batch.elapsed().as_secs_f64();
-        samples += count;
         let now = Instant::now();
         let want_estimate = stop.target_relmse.is_some() || hooks.checkpoint.is_some();
         if want_estimate && now.duration_since(last_estimate).as_secs_f64() >= ESTIMATE_INTERVAL_S {
-            acc = read_accumulation(&sum_buf, &even_buf, img.width, img.height, samples)?;
+            acc = read_accumulation(&sum_buf, &even_buf, &acc, samples)?;
             relmse = acc.estimate_relmse();
             last_estimate = now;
         }
         if let Some(hook) = hooks.checkpoint.as_mut() {
             if now.duration_since(last_checkpoint).as_secs_f64() >= hooks.checkpoint_interval_s {
-                acc = read_accumulation(&sum_buf, &even_buf, img.width, img.height, samples)?;
+                acc = read_accumulation(&sum_buf, &even_buf, &acc, samples)?;
                 hook(&acc)?;
                 last_checkpoint = now;
             }
@@ -293,7 +386,7 @@ pub fn render(
             });
         }
     }
-    acc = read_accumulation(&sum_buf, &even_buf, img.width, img.height, samples)?;
+    acc = read_accumulation(&sum_buf, &even_buf, &acc, samples)?;
     if let Some(hook) = hooks.checkpoint.as_mut() {
         hook(&acc)?;
     }

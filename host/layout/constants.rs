@@ -55,6 +55,10 @@ shared_constants! {
     BINDING_UVS = 15;
     /// First of the ten outputs of the texel-decode test probe (shaders/test/texel_decode_probe.comp).
     BINDING_DECODE_OUT = 16;
+    /// Adaptive sampling: each coherence block's (first sample index, sample count) for the
+    /// dispatch, `uvec2[]` indexed by the block's sampler key (`integrator::adaptive`).
+    /// After the decode probe's ten outputs.
+    BINDING_BLOCK_SAMPLES = 26;
 
     /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
     /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).

@@ -172,6 +172,10 @@ struct GpuPathParams {
     uint nee;
     float inv_total_weight;
     uint coherence;
+    uint adaptive;
+    uint _pad0;
+    uint _pad1;
+    uint _pad2;
 };
 
 #endif

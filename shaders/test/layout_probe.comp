@@ -41,7 +41,7 @@ void main() {
     float s = node_value + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
             + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
-            + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x;
+            + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x);
     accum[0] = vec4(s);
     hits[0].t = s;
     accum_even[0] = vec4(s);
