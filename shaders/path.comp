@@ -116,7 +116,8 @@ void main() {
     uint index = pixel.y * frame.width + pixel.x;
     uint key = sample_key(pixel, frame.width, params.coherence);
     uvec2 samples = uvec2(push.sample_base, push.sample_count);
-    if (params.adaptive != 0u) samples = block_samples[key];
+    // Adaptive: the block's own range; blocks are whole coherence blocks, keyed alike.
+    if (params.adaptive != 0u) samples = block_samples[sample_key(pixel, frame.width, params.adaptive)];
     vec3 sum = vec3(0.0);
     vec3 sum_even = vec3(0.0);
     float dropped = 0.0;

@@ -8,7 +8,8 @@ the render time and the relMSE against the reference (mean((a-b)^2/(b^2+0.01)), 
 renderer relMSE falls as 1/time, so the product is constant and smaller is faster.
 
 Times are render times: vkrt's own report ("in X s": BVH build and upload excluded, read-back
-included) and Mitsuba's mi.render() after one warm-up render (its JIT compiles kernels once).
+included) and Mitsuba's mi.render() after one warm-up render (its JIT compiles kernels once);
+with --rounds N every row runs N times, interleaved, and keeps its shortest time.
 
 Usage (from the repository root, after `cargo build --release`):
   tools/path_time_to_error.py --scene scenes/cornell-measured/cornell.yaml \
@@ -114,28 +115,35 @@ def mitsuba_scene(mi, obj, mtl, camera, width, height, work):
     return mi.load_dict(scene)
 
 
-def run_mitsuba(args, ladder, reference_path):
-    try:
-        import mitsuba as mi
-        mi.set_variant("llvm_ad_rgb")
-    except Exception as e:  # not installed, or no libLLVM
-        print(f"Mitsuba not available ({e}); plotting vkrt only", file=sys.stderr)
-        return []
-    import numpy as np
-    ref = np.array(mi.Bitmap(reference_path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
-    scene = mitsuba_scene(mi, args.obj, args.mtl, {"eye": args.eye, "target": args.target, "up": args.up, "fov": args.fov},
-                          args.width, args.height, args.out)
-    mi.render(scene, spp=1, seed=999)  # warm-up: JIT compilation
-    rows = []
-    for spp in ladder:
+class MitsubaBench:
+    """Mitsuba 3 on the same scene, loaded and JIT-warmed once; None from `load` if missing."""
+
+    @staticmethod
+    def load(args, reference_path):
+        try:
+            import mitsuba as mi
+            mi.set_variant("llvm_ad_rgb")
+        except Exception as e:  # not installed, or no libLLVM
+            print(f"Mitsuba not available ({e}); plotting vkrt only", file=sys.stderr)
+            return None
+        return MitsubaBench(mi, args, reference_path)
+
+    def __init__(self, mi, args, reference_path):
+        import numpy as np
+        self.mi, self.np, self.seed = mi, np, args.seed
+        self.ref = np.array(mi.Bitmap(reference_path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
+        self.scene = mitsuba_scene(mi, args.obj, args.mtl, {"eye": args.eye, "target": args.target, "up": args.up, "fov": args.fov},
+                                   args.width, args.height, args.out)
+        mi.render(self.scene, spp=1, seed=999)  # warm-up: JIT compilation
+
+    def render(self, spp):
+        """(seconds, relMSE) of one render."""
         t = time.perf_counter()
-        img = mi.render(scene, spp=spp, seed=args.seed)
-        img = np.array(img, dtype=np.float64)  # forces evaluation
+        img = self.mi.render(self.scene, spp=spp, seed=self.seed)
+        img = self.np.array(img, dtype=self.np.float64)  # forces evaluation
         secs = time.perf_counter() - t
-        rel = float(np.mean((img[..., :3] - ref) ** 2 / (ref ** 2 + 0.01)))
-        rows.append(("mitsuba3 llvm_ad_rgb", spp, secs, rel))
-        print(f"mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
-    return rows
+        ref = self.ref
+        return secs, float(self.np.mean((img[..., :3] - ref) ** 2 / (ref ** 2 + 0.01)))
 
 
 def main():
@@ -151,6 +159,8 @@ def main():
     ap.add_argument("--sampling", nargs="+", choices=["uniform", "adaptive"], default=["uniform"],
                     help="vkrt sample allocations to run (adaptive: --adaptive, only at 8 spp or more)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--rounds", type=int, default=1,
+                    help="run every row this many times, interleaved, and keep the shortest time (the machine's speed swings)")
     ap.add_argument("--vkrt", default="target/release/vkrt")
     ap.add_argument("--out", default="target/bench/path")
     ap.add_argument("--no-mitsuba", action="store_true")
@@ -164,19 +174,27 @@ def main():
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
 
-    rows = []
-    for coherence, sampler, sampling in [(c, s, a) for c in args.coherence for s in args.samplers for a in args.sampling]:
-        adaptive = sampling == "adaptive"
-        name = sampler if coherence == 1 else f"{sampler} coherence {coherence}"
-        name += " adaptive" if adaptive else ""
-        for spp in [n for n in args.spp if n >= 8 or not adaptive]:
-            img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence}{'-adaptive' if adaptive else ''}-{spp}.exr")
-            secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
-            rel = vkrt_compare(args.vkrt, img, args.reference)
-            rows.append((f"vkrt {name} (lavapipe)", spp, secs, rel))
-            print(f"vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
-    if not args.no_mitsuba:
-        rows += run_mitsuba(args, args.spp, args.reference)
+    configs = [(c, s, a) for c in args.coherence for s in args.samplers for a in args.sampling]
+    mitsuba = None if args.no_mitsuba else MitsubaBench.load(args, args.reference)
+    best = {}  # (renderer, spp) -> [seconds, relMSE], in first-run order
+    for r in range(args.rounds):
+        for coherence, sampler, sampling in configs:
+            adaptive = sampling == "adaptive"
+            name = sampler if coherence == 1 else f"{sampler} coherence {coherence}"
+            name += " adaptive" if adaptive else ""
+            for spp in [n for n in args.spp if n >= 8 or not adaptive]:
+                img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence}{'-adaptive' if adaptive else ''}-{spp}.exr")
+                secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
+                rel = vkrt_compare(args.vkrt, img, args.reference)
+                key = (f"vkrt {name} (lavapipe)", spp)
+                best[key] = [min(secs, best.get(key, [secs])[0]), rel]
+                print(f"round {r + 1}: vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
+        for spp in args.spp if mitsuba else []:
+            secs, rel = mitsuba.render(spp)
+            key = ("mitsuba3 llvm_ad_rgb", spp)
+            best[key] = [min(secs, best.get(key, [secs])[0]), rel]
+            print(f"round {r + 1}: mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
+    rows = [(name, spp, secs, rel) for (name, spp), (secs, rel) in best.items()]
 
     csv_path = os.path.join(args.out, "time_to_error.csv")
     with open(csv_path, "w", newline="") as f:

@@ -1,13 +1,14 @@
-//! Adaptive sampling for the path tracer: after a uniform pilot, each coherence block (the
-//! pixels that share sample numbers, `PathSettings::coherence`) takes samples in proportion to
-//! the relative noise the pilot showed around it, so that the mean relMSE, which is what
+//! Adaptive sampling for the path tracer: after a uniform pilot, each block (a run of pixels in
+//! a row: whole coherence blocks, `PathSettings::coherence`, at least a workgroup row wide)
+//! takes samples in proportion to the relative noise the pilot showed around it, so that the mean relMSE, which is what
 //! `vkrt compare` and the time-to-error benchmark measure, falls faster for the same number of
 //! samples (BENCHMARKS.md, "Adaptive sampling").
 //!
 //! Unbiased by construction: a block's rate is computed from the pilot samples of the pixels
 //! around it, never from its own, and every pixel's pilot takes the same count. Blocks draw
-//! independent sample numbers (their sampler keys differ), so a block's count is independent
-//! of its own sample values and the mean of its samples stays an unbiased estimate. (Deciding
+//! independent sample numbers (a block is made of whole coherence blocks, so no sampler key
+//! is in two), so a block's count is independent of its own sample values and the mean of its
+//! samples stays an unbiased estimate. (Deciding
 //! from a pixel's own samples, as most adaptive samplers do, biases the mean: a bright outlier
 //! raises the noise estimate and buys samples that dilute it.) The allocation is fixed after
 //! the pilot, so it is a function of (pixel, seed) like every sample, and resumed runs go on
@@ -19,6 +20,7 @@
 //! pixel's even-indexed half is exactly half of it (`Accumulation::counts`).
 
 use super::accumulation::Accumulation;
+use crate::layout::constants::WORKGROUP_SIZE_X;
 
 /// Uniform samples per pixel before the allocation (even).
 pub const PILOT_SPP: u32 = 8;
@@ -31,18 +33,25 @@ const WINDOW_ROWS_ABOVE: u32 = 3;
 const WINDOW_ROWS_BELOW: u32 = 4;
 const WINDOW_COLUMNS: u32 = 4;
 
-/// The coherence blocks of an image: runs of `coherence` pixels in a row, keyed as
-/// shaders/include/sampler.glsl's `sample_key`.
+/// The allocation blocks of an image: runs of `block` pixels in a row, keyed as
+/// shaders/include/sampler.glsl's `sample_key` with `block` for the coherence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BlockGrid {
     pub width: u32,
     pub height: u32,
-    pub coherence: u32,
+    pub block: u32,
 }
 
 impl BlockGrid {
+    /// Blocks of whole coherence blocks, at least a workgroup row (8 pixels) wide: lavapipe
+    /// runs a row as one SIMD subgroup, whose lanes would otherwise wait for the lane with the
+    /// most samples (measured: 7 % more time per sample with 1-pixel blocks).
+    pub fn new(width: u32, height: u32, coherence: u32) -> Self {
+        let c = coherence.max(1);
+        Self { width, height, block: c * WORKGROUP_SIZE_X.div_ceil(c) }
+    }
     pub fn blocks_per_row(&self) -> u32 {
-        self.width.div_ceil(self.coherence.max(1))
+        self.width.div_ceil(self.block.max(1))
     }
     pub fn count(&self) -> usize {
         self.blocks_per_row() as usize * self.height as usize
@@ -50,7 +59,7 @@ impl BlockGrid {
     /// Block `key`'s row and pixel columns.
     pub fn pixels(&self, key: usize) -> (u32, std::ops::Range<u32>) {
         let per_row = self.blocks_per_row() as usize;
-        let c = self.coherence.max(1);
+        let c = self.block.max(1);
         let (y, bx) = ((key / per_row) as u32, (key % per_row) as u32);
         (y, bx * c..((bx + 1) * c).min(self.width))
     }
@@ -99,7 +108,7 @@ pub fn block_rates(pilot: &Accumulation, grid: BlockGrid) -> Vec<u32> {
     // pixels (the rest do, and a global mean would let the block's own samples in).
     let total: f64 = noise.iter().sum();
     let per_row = grid.blocks_per_row() as usize;
-    let c = grid.coherence.max(1) as usize;
+    let c = grid.block.max(1) as usize;
     (0..noise.len())
         .map(|key| {
             let (y, cols) = grid.pixels(key);
@@ -161,7 +170,10 @@ mod tests {
 
     #[test]
     fn grid_keys_match_the_shader() {
-        let g = BlockGrid { width: 20, height: 3, coherence: 8 };
+        assert_eq!(BlockGrid::new(20, 3, 1).block, 8);
+        assert_eq!(BlockGrid::new(20, 3, 3).block, 9, "a block must hold whole coherence blocks");
+        assert_eq!(BlockGrid::new(20, 3, 16).block, 16);
+        let g = BlockGrid::new(20, 3, 8);
         assert_eq!(g.blocks_per_row(), 3);
         assert_eq!(g.count(), 9);
         assert_eq!(g.pixels(0), (0, 0..8));
@@ -171,7 +183,7 @@ mod tests {
 
     #[test]
     fn noisier_regions_get_more_samples_and_rates_are_even() {
-        let g = BlockGrid { width: 64, height: 32, coherence: 8 };
+        let g = BlockGrid::new(64, 32, 8);
         let rates = block_rates(&pilot(64, 32, |x, _| if x < 32 { 0.05 } else { 0.4 }), g);
         assert!(rates.iter().all(|&r| r % 2 == 0 && (2..=2 * RATE_MAX).contains(&r)), "{rates:?}");
         let (calm, noisy) = (rates[0], rates[7]);
@@ -181,7 +193,7 @@ mod tests {
     /// The unbiasedness argument: a block's rate must not depend on its own pilot samples.
     #[test]
     fn a_block_rate_ignores_the_block_own_samples() {
-        let g = BlockGrid { width: 64, height: 32, coherence: 8 };
+        let g = BlockGrid::new(64, 32, 8);
         let base = |x: u32, y: u32| 0.05 + 0.01 * ((x * 7 + y * 3) % 11) as f32;
         let before = block_rates(&pilot(64, 32, base), g);
         // Block key 4 * 8 + 3 (row 4, pixels 24..32) turns very noisy.
@@ -193,7 +205,7 @@ mod tests {
 
     #[test]
     fn the_last_round_shrinks_to_the_budget() {
-        let g = BlockGrid { width: 16, height: 1, coherence: 8 };
+        let g = BlockGrid::new(16, 1, 8);
         let rates = vec![4, 12];
         assert_eq!(round_counts(&rates, g, 1000), rates);
         // 128 per round; 64 left: half of each rate, rounded to even.

@@ -158,7 +158,7 @@ pub fn path_params(scene: &Scene, settings: &PathSettings) -> Result<(GpuPathPar
         nee: settings.nee as u32,
         inv_total_weight: if table.total_weight > 0.0 { (1.0 / table.total_weight) as f32 } else { 0.0 },
         coherence: settings.coherence,
-        adaptive: settings.adaptive as u32,
+        adaptive: if settings.adaptive { BlockGrid::new(settings.image.width, settings.image.height, settings.coherence).block } else { 0 },
         _pad0: 0,
         _pad1: 0,
         _pad2: 0,
@@ -180,7 +180,7 @@ fn read_accumulation(sum: &Buffer, even: &Buffer, like: &Accumulation, samples: 
     Ok(acc)
 }
 
-/// An adaptive run's per-block progress: samples taken so far by each coherence block (every
+/// An adaptive run's per-block progress: samples taken so far by each block (every
 /// pixel of a block has the same count) and over all pixels.
 struct AdaptiveState {
     grid: BlockGrid,
@@ -255,7 +255,7 @@ pub fn render(
     if settings.adaptive && stop.spp.is_some_and(|n| n < PILOT_SPP as u64) {
         bail!("adaptive sampling needs at least {PILOT_SPP} spp (its uniform pilot); got {}", stop.spp.unwrap_or(0));
     }
-    let grid = BlockGrid { width: img.width, height: img.height, coherence: settings.coherence.max(1) };
+    let grid = BlockGrid::new(img.width, img.height, settings.coherence);
     let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     let mut stats = RenderStats::default();
     let (params, table) = path_params(scene, settings)?;

@@ -55,8 +55,8 @@ shared_constants! {
     BINDING_UVS = 15;
     /// First of the ten outputs of the texel-decode test probe (shaders/test/texel_decode_probe.comp).
     BINDING_DECODE_OUT = 16;
-    /// Adaptive sampling: each coherence block's (first sample index, sample count) for the
-    /// dispatch, `uvec2[]` indexed by the block's sampler key (`integrator::adaptive`).
+    /// Adaptive sampling: each block's (first sample index, sample count) for the dispatch,
+    /// `uvec2[]` indexed as `sample_key` with the block width (`integrator::adaptive`).
     /// After the decode probe's ten outputs.
     BINDING_BLOCK_SAMPLES = 26;
 

@@ -370,8 +370,9 @@ pub struct GpuPathParams {
     /// Pixels in a row that draw the same sample numbers (1: every pixel its own; see
     /// `PathSettings::coherence`).
     pub coherence: u32,
-    /// 1: each coherence block takes the samples BINDING_BLOCK_SAMPLES gives it (adaptive
-    /// sampling); 0: every pixel takes the push constants' `sample_base .. + sample_count`.
+    /// Adaptive sampling: the pixels per block (`integrator::adaptive::BlockGrid`), each block
+    /// taking the samples BINDING_BLOCK_SAMPLES gives it; 0: every pixel takes the push
+    /// constants' `sample_base .. + sample_count`.
     pub adaptive: u32,
     pub _pad0: u32,
     pub _pad1: u32,

@@ -6,8 +6,8 @@ layout(std140, set = 0, binding = BINDING_PATH_PARAMS) uniform PathParams { GpuP
 // rgb: radiance sum of the even-indexed samples; w: samples taken for the pixel (exact as a
 // float up to 2^24), which adaptive runs need per pixel.
 layout(std430, set = 0, binding = BINDING_ACCUM_EVEN) buffer AccumEven { vec4 accum_even[]; };
-// Adaptive sampling: (first sample index, count) per coherence block, by sample_key. Read once
-// per invocation, so a storage buffer.
+// Adaptive sampling: (first sample index, count) per block of params.adaptive pixels in a
+// row, keyed as sample_key. Read once per invocation, so a storage buffer.
 layout(std430, set = 0, binding = BINDING_BLOCK_SAMPLES) readonly buffer BlockSamples { uvec2 block_samples[]; };
 
 #ifndef LAYOUT_PROBE
