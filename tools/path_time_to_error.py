@@ -146,6 +146,39 @@ class MitsubaBench:
         return secs, float(self.np.mean((img[..., :3] - ref) ** 2 / (ref ** 2 + 0.01)))
 
 
+def plot(rows, args):
+    """Log-log error against seconds, one curve per renderer, to OUT/time_to_error.png."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib not installed: no plot", file=sys.stderr)
+        return
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    for name in dict.fromkeys(r[0] for r in rows):
+        pts = [(r[2], r[3]) for r in rows if r[0] == name]
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=name)
+    ax.set_xlabel("render seconds")
+    ax.set_ylabel("relMSE vs reference")
+    ax.set_title(f"{os.path.basename(args.scene)} {args.width}x{args.height}: error vs time")
+    ax.grid(True, which="both", alpha=0.3)
+    # Label decades only: minor-tick labels on a short log axis overlap.
+    from matplotlib.ticker import NullFormatter
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    # The figure of merit as guide lines: relMSE x seconds = constant is a line of slope -1.
+    xs = [min(r[2] for r in rows), max(r[2] for r in rows)]
+    for product in (0.1, 0.01):
+        ax.loglog(xs, [product / x for x in xs], ":", color="grey", linewidth=0.8)
+        ax.annotate(f"relMSE x s = {product:g}", (xs[1], product / xs[1]), fontsize=7, color="grey", ha="right", va="bottom")
+    # Beside the axes: with eight or more curves a legend inside covers them.
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    png = os.path.join(args.out, "time_to_error.png")
+    fig.savefig(png, dpi=120, bbox_inches="tight")
+    print(f"wrote {png}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", default="scenes/cornell-measured/cornell.yaml")
@@ -164,6 +197,7 @@ def main():
     ap.add_argument("--vkrt", default="target/release/vkrt")
     ap.add_argument("--out", default="target/bench/path")
     ap.add_argument("--no-mitsuba", action="store_true")
+    ap.add_argument("--replot", metavar="CSV", help="only redraw the plot from a CSV this tool wrote")
     # The Mitsuba side needs the OBJ, MTL and camera (the cornell-measured defaults).
     ap.add_argument("--obj", default="scenes/cornell-measured/cornell.obj")
     ap.add_argument("--mtl", default="scenes/cornell-measured/cornell.mtl")
@@ -173,6 +207,11 @@ def main():
     ap.add_argument("--fov", type=float, default=39.3077)
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
+    if args.replot:
+        with open(args.replot, newline="") as f:
+            rows = [(r["renderer"], int(r["spp"]), float(r["seconds"]), float(r["relmse"])) for r in csv.DictReader(f)]
+        plot(rows, args)
+        return
 
     configs = [(c, s, a) for c in args.coherence for s in args.samplers for a in args.sampling]
     mitsuba = None if args.no_mitsuba else MitsubaBench.load(args, args.reference)
@@ -208,34 +247,7 @@ def main():
     for r in rows:
         print(f"| {r[0]} | {r[1]} | {r[2]:.2f} | {r[3]:.3e} | {r[2] * r[3]:.4f} |")
 
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot", file=sys.stderr)
-        return
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    for name in dict.fromkeys(r[0] for r in rows):
-        pts = [(r[2], r[3]) for r in rows if r[0] == name]
-        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=name)
-    ax.set_xlabel("render seconds")
-    ax.set_ylabel("relMSE vs reference")
-    ax.set_title(f"{os.path.basename(args.scene)} {args.width}x{args.height}: error vs time")
-    ax.grid(True, which="both", alpha=0.3)
-    # Label decades only: minor-tick labels on a short log axis overlap.
-    from matplotlib.ticker import NullFormatter
-    ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.yaxis.set_minor_formatter(NullFormatter())
-    # The figure of merit as guide lines: relMSE x seconds = constant is a line of slope -1.
-    xs = [min(r[2] for r in rows), max(r[2] for r in rows)]
-    for product in (0.1, 0.01):
-        ax.loglog(xs, [product / x for x in xs], ":", color="grey", linewidth=0.8)
-        ax.annotate(f"relMSE x s = {product:g}", (xs[1], product / xs[1]), fontsize=7, color="grey", ha="right", va="bottom")
-    ax.legend()
-    png = os.path.join(args.out, "time_to_error.png")
-    fig.savefig(png, dpi=120, bbox_inches="tight")
-    print(f"wrote {png}")
+    plot(rows, args)
 
 
 if __name__ == "__main__":

@@ -72,8 +72,8 @@ pub struct PathSettings {
     /// sampling").
     pub coherence: u32,
     /// Adaptive sampling (`integrator::adaptive`): after a uniform pilot of `PILOT_SPP`, each
-    /// coherence block takes samples in proportion to the noise the pilot showed around it.
-    /// Unbiased; `stop.spp` is then the mean over the pixels.
+    /// block (a workgroup row, or whole coherence blocks) takes samples in proportion to the
+    /// noise the pilot showed around it. Unbiased; `stop.spp` is then the mean over the pixels.
     pub adaptive: bool,
     pub stop: Stop,
 }
@@ -256,6 +256,9 @@ pub fn render(
         bail!("adaptive sampling needs at least {PILOT_SPP} spp (its uniform pilot); got {}", stop.spp.unwrap_or(0));
     }
     let grid = BlockGrid::new(img.width, img.height, settings.coherence);
+    if !acc.rates.is_empty() && (acc.rates.len() != grid.count() || acc.rates.iter().any(|&r| r == 0 || r % 2 != 0)) {
+        bail!("the resumed run's adaptive rates ({} of them) are not even rates for this render's {} blocks", acc.rates.len(), grid.count());
+    }
     let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     let mut stats = RenderStats::default();
     let (params, table) = path_params(scene, settings)?;
