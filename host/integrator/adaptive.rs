@@ -1,18 +1,17 @@
 //! Adaptive sampling for the path tracer: after a uniform pilot, each block (a run of pixels in
 //! a row: whole coherence blocks, `PathSettings::coherence`, at least a workgroup row wide)
-//! takes samples in proportion to the relative noise the pilot showed around it, so that the mean relMSE, which is what
-//! `vkrt compare` and the time-to-error benchmark measure, falls faster for the same number of
-//! samples (BENCHMARKS.md, "Adaptive sampling").
+//! takes samples in proportion to the relative noise the pilot showed around it, so that the
+//! mean relMSE, which is what `vkrt compare` and the time-to-error benchmark measure, falls
+//! faster for the same number of samples (BENCHMARKS.md, "Adaptive sampling").
 //!
 //! Unbiased by construction: a block's rate is computed from the pilot samples of the pixels
 //! around it, never from its own, and every pixel's pilot takes the same count. Blocks draw
 //! independent sample numbers (a block is made of whole coherence blocks, so no sampler key
 //! is in two), so a block's count is independent of its own sample values and the mean of its
-//! samples stays an unbiased estimate. (Deciding
-//! from a pixel's own samples, as most adaptive samplers do, biases the mean: a bright outlier
-//! raises the noise estimate and buys samples that dilute it.) The allocation is fixed after
-//! the pilot, so it is a function of (pixel, seed) like every sample, and resumed runs go on
-//! with the same rates.
+//! samples stays an unbiased estimate. (Deciding from a pixel's own samples, as most adaptive
+//! samplers do, biases the mean: a bright outlier raises the noise estimate and buys samples
+//! that dilute it.) The allocation is fixed after the pilot, so it is a function of (pixel,
+//! seed) like every sample, and resumed runs go on with the same rates.
 //!
 //! The optimal share for the mean relMSE (minimise sum_b v_b / n_b for sum_b n_b fixed) is
 //! n_b proportional to sqrt(v_b), v_b the block's relative variance per sample: that is
