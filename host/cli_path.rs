@@ -53,9 +53,10 @@ pub struct PathArgs {
     /// with the noise in short horizontal streaks. 1: every pixel its own numbers.
     #[arg(long, default_value_t = 1)]
     pub coherence: u32,
-    /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of
-    /// --coherence pixels takes samples in proportion to the noise the pilot showed around it
-    /// (not in it, which keeps the image unbiased); --spp is then the mean over the pixels.
+    /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels in
+    /// a row (8, or whole --coherence blocks) takes samples in proportion to the noise the
+    /// pilot showed around it (not in it, which keeps the image unbiased); --spp is then the
+    /// mean over the pixels.
     #[arg(long)]
     pub adaptive: bool,
 }
