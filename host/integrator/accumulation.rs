@@ -91,24 +91,39 @@ impl Accumulation {
     /// Adaptive runs: the same per pixel, with each pixel's own counts. `None` until each half
     /// of every pixel has a sample.
     pub fn estimate_relmse(&self) -> Option<f64> {
-        let (a, b) = self.halves();
-        let full = self.image();
+        let spreads = self.half_spreads();
         let mut total = 0.0f64;
-        for (p, ((pa, pb), pf)) in a.pixels.iter().zip(&b.pixels).zip(&full.pixels).enumerate() {
+        for (p, spread) in spreads.iter().enumerate() {
             let (n, na) = self.counts(p);
             let nb = n - na;
             if na == 0 || nb == 0 {
                 return None;
             }
-            let mut spread = 0.0f64;
-            for c in 0..3 {
-                let d = (pa[c] - pb[c]) as f64;
-                let f = pf[c] as f64;
-                spread += d * d / (f * f + 0.01);
-            }
             total += spread / (n as f64 * (1.0 / na as f64 + 1.0 / nb as f64));
         }
-        Some(total / (a.pixels.len() * 3).max(1) as f64)
+        Some(total / (spreads.len() * 3).max(1) as f64)
+    }
+
+    /// Per pixel, the two half-images' spread relative to the image: the sum over the channels
+    /// of (A - B)^2 / (F^2 + 0.01), F the full image (the relMSE's denominator, as
+    /// `../shared/refs` defines it). What `estimate_relmse` averages and adaptive sampling maps.
+    pub fn half_spreads(&self) -> Vec<f64> {
+        let (a, b) = self.halves();
+        let full = self.image();
+        a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .zip(&full.pixels)
+            .map(|((pa, pb), pf)| {
+                (0..3)
+                    .map(|c| {
+                        let d = (pa[c] - pb[c]) as f64;
+                        let f = pf[c] as f64;
+                        d * d / (f * f + 0.01)
+                    })
+                    .sum()
+            })
+            .collect()
     }
 
     /// Samples dropped as NaN or infinite, over all pixels.

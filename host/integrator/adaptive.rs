@@ -55,6 +55,10 @@ impl BlockGrid {
     pub fn count(&self) -> usize {
         self.blocks_per_row() as usize * self.height as usize
     }
+    /// Samples over all pixels when block k takes `per_block[k]` samples in each of its pixels.
+    pub fn pixel_samples(&self, per_block: &[u32]) -> u64 {
+        per_block.iter().enumerate().map(|(k, &n)| n as u64 * self.pixels(k).1.len() as u64).sum()
+    }
     /// Block `key`'s row and pixel columns.
     pub fn pixels(&self, key: usize) -> (u32, std::ops::Range<u32>) {
         let per_row = self.blocks_per_row() as usize;
@@ -69,20 +73,13 @@ impl BlockGrid {
 /// half-images and F their mean, averaged over the block's neighbourhood without the block.
 pub fn block_rates(pilot: &Accumulation, grid: BlockGrid) -> Vec<u32> {
     let (w, h) = (grid.width as usize, grid.height as usize);
-    let (a, b) = pilot.halves();
-    let full = pilot.image();
+    let spreads = pilot.half_spreads();
     // Summed-area table of the per-pixel noise, (h + 1) x (w + 1).
     let mut table = vec![0.0f64; (w + 1) * (h + 1)];
     for y in 0..h {
         let mut row = 0.0f64;
         for x in 0..w {
-            let p = y * w + x;
-            let mut e = 0.0f64;
-            for c in 0..3 {
-                let d = (a.pixels[p][c] - b.pixels[p][c]) as f64;
-                let f = full.pixels[p][c] as f64;
-                e += d * d / (f * f + 0.01);
-            }
+            let e = spreads[y * w + x];
             row += if e.is_finite() { e } else { 0.0 };
             table[(y + 1) * (w + 1) + x + 1] = table[y * (w + 1) + x + 1] + row;
         }
@@ -103,8 +100,8 @@ pub fn block_rates(pilot: &Accumulation, grid: BlockGrid) -> Vec<u32> {
             if n > 0 { (around / n as f64).max(0.0).sqrt() } else { 0.0 }
         })
         .collect();
-    // The scale: the mean noise over the blocks whose windows do not hold this block's
-    // pixels (the rest do, and a global mean would let the block's own samples in).
+    // The scale: the mean noise over the blocks other than this one whose windows do not hold
+    // its pixels (a global mean would let the block's own samples in through its neighbours).
     let total: f64 = noise.iter().sum();
     let per_row = grid.blocks_per_row() as usize;
     let c = grid.block.max(1) as usize;
@@ -138,7 +135,7 @@ pub fn block_rates(pilot: &Accumulation, grid: BlockGrid) -> Vec<u32> {
 /// samples in total (over all pixels): its whole rate, or for the last round a share of it,
 /// rounded to even, so that the run ends near its budget.
 pub fn round_counts(rates: &[u32], grid: BlockGrid, budget_left: u64) -> Vec<u32> {
-    let per_round: u64 = rates.iter().enumerate().map(|(k, &r)| r as u64 * grid.pixels(k).1.len() as u64).sum();
+    let per_round = grid.pixel_samples(rates);
     if per_round == 0 || budget_left >= per_round {
         return rates.to_vec();
     }

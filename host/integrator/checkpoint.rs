@@ -5,8 +5,9 @@
 //! Format (little-endian): magic `VKRTCKPT`, version u32, then the settings (strings as u32
 //! length + UTF-8), samples u64, even_samples u64, then width * height * 4 f32 of `sum` and as
 //! many of `even`, then (version 3) per_pixel u32 (1: adaptive run, counts in `even`'s w) and
-//! the adaptive block rates as a u32 count and that many u32. Written to a temporary file beside the target and renamed into place, so a
-//! crash never leaves a half-written checkpoint under the real name.
+//! the adaptive block rates as a u32 count and that many u32. Written to a temporary file
+//! beside the target and renamed into place, so a crash never leaves a half-written checkpoint
+//! under the real name.
 
 use super::accumulation::Accumulation;
 use anyhow::{bail, Context as _, Result};

@@ -181,11 +181,10 @@ fn read_accumulation(sum: &Buffer, even: &Buffer, like: &Accumulation, samples: 
 }
 
 /// An adaptive run's per-block progress: samples taken so far by each block (every
-/// pixel of a block has the same count) and over all pixels.
+/// pixel of a block has the same count).
 struct AdaptiveState {
     grid: BlockGrid,
     done: Vec<u32>,
-    total: u64,
 }
 
 impl AdaptiveState {
@@ -196,8 +195,12 @@ impl AdaptiveState {
                 acc.counts((y * grid.width + cols.start) as usize).0 as u32
             })
             .collect();
-        let total = done.iter().enumerate().map(|(k, &n)| n as u64 * grid.pixels(k).1.len() as u64).sum();
-        Self { grid, done, total }
+        Self { grid, done }
+    }
+
+    /// Samples taken over all pixels.
+    fn total(&self) -> u64 {
+        self.grid.pixel_samples(&self.done)
     }
 
     /// Each block's (first sample, count) for the next batch: the pilot in batches of `batch`
@@ -209,15 +212,14 @@ impl AdaptiveState {
             let step = (batch.div_ceil(2) * 2).min(pilot_left as u64) as u32;
             self.done.iter().map(|&d| step.min(PILOT_SPP.saturating_sub(d))).collect()
         } else {
-            round_counts(rates, self.grid, budget.map_or(u64::MAX, |b| b.saturating_sub(self.total)))
+            round_counts(rates, self.grid, budget.map_or(u64::MAX, |b| b.saturating_sub(self.total())))
         };
         self.done.iter().zip(counts).map(|(&d, c)| [d, c]).collect()
     }
 
     fn advance(&mut self, batch: &[[u32; 2]]) {
-        for (k, (d, b)) in self.done.iter_mut().zip(batch).enumerate() {
+        for (d, b) in self.done.iter_mut().zip(batch) {
             *d += b[1];
-            self.total += b[1] as u64 * self.grid.pixels(k).1.len() as u64;
         }
     }
 }
@@ -341,7 +343,7 @@ pub fn render(
                 dispatch_samples(ctx, &scene_push, &pipeline, "path tile", img, 0, 0, 0, &mut || stats.submissions += 1)?;
             }
             state.advance(&next);
-            samples = state.total / pixels;
+            samples = state.total() / pixels;
         } else {
             let count = stop.spp.map_or(batch, |n| batch.min(n - samples));
             if samples + count > u32::MAX as u64 {
