@@ -6,14 +6,16 @@ For each scene: writes primary rays (a 1024x1024 pinhole at the centre of the bo
 along the widest horizontal axis: coherent, interior view) and incoherent rays (origins uniform
 in the bounds, directions uniform on the sphere) as (N, 8) float32 .npy files; times
 `vkrt trace` on them (rays/s over upload, traversal and read-back, as vkrt prints it) and
-Embree's closest-hit query (`EmbreeScene.run`, rays/s over the call); and reports how often the
-two agree on the hit triangle.
+Embree's closest-hit query (`EmbreeScene.run`, rays/s over the call) on one thread and on
+`--embree-threads` threads at once (default: every core, the same cores lavapipe uses; each
+thread runs one call on its own contiguous share of the rays, and embreex releases the GIL
+inside the call); and reports how often vkrt and Embree agree on the hit triangle.
 
 The OBJ is read here with the same rules as vkrt's loader (polygons fan-triangulated in file
 order, zero-area triangles dropped), so triangle ids match between the two.
 
 Usage: python3 tools/embree_compare.py [--vkrt target/release/vkrt] [--builder B] [--layout L]
-       [--rays N] [--orders auto given ...] [--rounds R] SCENE.obj...
+       [--rays N] [--orders auto given ...] [--rounds R] [--embree-threads T] SCENE.obj...
 With several `--orders` (vkrt trace --order) each ray set is traced once per order, so the
 rows compare inside one run; `--rounds` repeats every timing and keeps the best.
 Needs: pip install embreex numpy
@@ -24,6 +26,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 import numpy as np
@@ -88,6 +91,26 @@ def run_vkrt(vkrt, scene, rays_path, out_path, builder, layout, order):
     return float(m.group(1)) * 1e6, float(m.group(2)), float(m.group(3)), np.load(out_path)
 
 
+def embree_run(es, o, d, threads):
+    """Embree's closest hits for rays (o, d) on `threads` threads at once, and the seconds
+    from the first call's start to the last one's end."""
+    # Contiguous slices are views: no copy inside the timed span.
+    o_parts, d_parts = np.array_split(o, threads), np.array_split(d, threads)
+    results = [None] * threads
+
+    def work(k):
+        results[k] = es.run(o_parts[k], d_parts[k], output=1)
+
+    workers = [threading.Thread(target=work, args=(k,)) for k in range(threads)]
+    t0 = time.perf_counter()
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    seconds = time.perf_counter() - t0
+    return np.concatenate([r["primID"] for r in results]), seconds
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("scenes", nargs="+")
@@ -97,15 +120,21 @@ def main():
     ap.add_argument("--rays", type=int, default=1 << 20, help="incoherent rays per scene")
     ap.add_argument("--orders", nargs="+", default=["auto"], help="vkrt trace --order values, one row each")
     ap.add_argument("--rounds", type=int, default=1, help="timings per row; the best is kept")
+    ap.add_argument("--embree-threads", type=int, default=os.cpu_count() or 1,
+                    help="threads for Embree's many-core column (default: every core)")
     args = ap.parse_args()
+    if args.embree_threads < 1:
+        sys.exit("--embree-threads must be at least 1")
     from embreex import rtcore_scene
     from embreex.mesh_construction import TriangleMesh
 
     rng = np.random.default_rng(1)
     tmp = tempfile.mkdtemp(prefix="vkrt-embree-")
-    print(f"vkrt: {args.builder} / {args.layout}; Embree 4 via embreex (one thread per run call)")
-    print("| scene | triangles | rays | kind | vkrt order | vkrt M rays/s | Embree M rays/s | vkrt / Embree | nodes/ray | tris/ray | same prim |")
-    print("|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|")
+    n = args.embree_threads
+    print(f"vkrt: {args.builder} / {args.layout}; Embree 4 via embreex on 1 and on {n} threads")
+    print(f"| scene | triangles | rays | kind | vkrt order | vkrt M rays/s | Embree 1 thread | Embree {n} threads | "
+          f"vkrt / Embree {n} threads | nodes/ray | tris/ray | same prim |")
+    print("|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|")
     for scene in args.scenes:
         tris = load_obj(scene)
         lo, hi = tris.reshape(-1, 3).min(0), tris.reshape(-1, 3).max(0)
@@ -118,22 +147,25 @@ def main():
             o, d = np.ascontiguousarray(rays[:, 0:3]), np.ascontiguousarray(rays[:, 4:7])
             # Rounds interleave Embree and every vkrt order, so a slow phase of the machine
             # hits all of them.
-            em_rate, vk = 0.0, {}
+            em_rate, em_many, vk = 0.0, 0.0, {}
             for _ in range(args.rounds):
-                t0 = time.perf_counter()
-                res = es.run(o, d, output=1)
-                em_rate = max(em_rate, len(rays) / (time.perf_counter() - t0))
+                em_prim, seconds = embree_run(es, o, d, 1)
+                em_rate = max(em_rate, len(rays) / seconds)
+                many_prim, seconds = embree_run(es, o, d, n)
+                em_many = max(em_many, len(rays) / seconds)
+                if not np.array_equal(em_prim, many_prim):
+                    sys.exit("Embree's threaded run disagrees with its single-threaded one")
                 for order in args.orders:
                     rate, nodes, tests, hits = run_vkrt(args.vkrt, scene, rays_path, out_path, args.builder, args.layout, order)
                     if order not in vk or rate > vk[order][0]:
                         vk[order] = (rate, nodes, tests, hits)
-            em_prim = res["primID"].astype(np.int64)
+            em_prim = em_prim.astype(np.int64)
             for order in args.orders:
                 vk_rate, nodes, tests, hits = vk[order]
                 vk_prim = np.where(hits["prim"] == 0xFFFFFFFF, -1, hits["prim"].astype(np.int64))
                 same = float(np.mean(em_prim == vk_prim))
-                print(f"| {os.path.basename(scene)} | {len(tris)} | {len(rays)} | {kind} | {order} | {vk_rate / 1e6:.2f} | {em_rate / 1e6:.2f} | "
-                      f"{vk_rate / em_rate:.2f} | {nodes:.1f} | {tests:.2f} | {same * 100:.2f}% |")
+                print(f"| {os.path.basename(scene)} | {len(tris)} | {len(rays)} | {kind} | {order} | {vk_rate / 1e6:.2f} | "
+                      f"{em_rate / 1e6:.2f} | {em_many / 1e6:.2f} | {vk_rate / em_many:.2f} | {nodes:.1f} | {tests:.2f} | {same * 100:.2f}% |")
 
 
 if __name__ == "__main__":
