@@ -1,19 +1,22 @@
 //! vkrt: a GPU-agnostic ray and path tracer written as Vulkan compute shaders.
 //!
-//! Data flow (see `DESIGN.md`): a scene file becomes a [`scene::Scene`]; a builder in [`bvh::build`]
-//! turns its triangle boxes into a [`bvh::Bvh`]; [`layout`] flattens that into the arrays the shaders
-//! walk (with a CPU twin that walks the same arrays); [`gpu`] and [`pipeline`] drive Vulkan; an
-//! [`integrator`] renders in short batches; [`output`] writes images.
+//! Data flows one way (docs/ARCHITECTURE.md has the picture and what each module may import):
+//! a command ([`cli`]) loads a [`scene`]; [`prepare`] builds its BVH ([`bvh`], over [`geom`]
+//! boxes), lays it out ([`accel`]) in the formats of [`gpu_abi`], fills the shading arrays and
+//! uploads everything through [`gpu`]; an [`integrator`] (or a batch [`query`]) runs the
+//! [`pipeline`]'s shaders in short batches; [`output`] writes the image.
 
-pub mod bench;
+pub mod accel;
 pub mod bvh;
 pub mod cli;
-pub mod cli_path;
 pub mod error;
+pub mod geom;
 pub mod gpu;
+pub mod gpu_abi;
 pub mod integrator;
-pub mod layout;
 pub mod output;
 pub mod pipeline;
+pub mod prepare;
+pub mod query;
 pub mod rng;
 pub mod scene;

@@ -11,8 +11,6 @@
 #include "path_bindings.glsl"
 #include "features.glsl"
 #include "texture.glsl"
-#include "alpha.glsl"
-#include "intersect.glsl"
 #include "traverse.glsl"
 #include "rng.glsl"
 #include "sampler.glsl"

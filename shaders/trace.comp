@@ -1,16 +1,11 @@
 #version 460
 // Batch ray queries: one invocation per ray, closest or any hit, with traversal counters.
-// Used by the GPU agreement tests and by tools that compare BVH layouts.
+// The engine of `vkrt trace` and `vkrt bvh` and the GPU end of the agreement tests
+// (host/query/ray_query.rs). Geometry only: no alpha test (no ALPHA_TEST define).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
-#ifdef PACKET_TRAVERSAL
-// subgroupAny/subgroupAll for the packet walk (traverse_packet.glsl).
-#extension GL_KHR_shader_subgroup_vote : require
-#extension GL_KHR_shader_subgroup_ballot : require
-#endif
 
 #include "bvh_bindings.glsl"
-#include "intersect.glsl"
 #include "traverse.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_1D) in;

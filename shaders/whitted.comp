@@ -9,19 +9,17 @@
 #include "scene_bindings.glsl"
 #include "features.glsl"
 #include "texture.glsl"
-#include "alpha.glsl"
-#include "intersect.glsl"
 #include "traverse.glsl"
 #include "rng.glsl"
 #include "camera.glsl"
 #include "offset.glsl"
 #include "surface.glsl"
+#include "math.glsl"
+#include "fresnel.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
-
-const float PI = 3.14159265358979;
 
 // Barycentric sample points on an emissive triangle: the centroids of its four midpoint
 // sub-triangles, each standing for a quarter of its area (WHITTED_EMITTER_SAMPLES = 4).
@@ -106,16 +104,6 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
         result += blinn_phong(m, s, view, l, e);
     }
     return result;
-}
-
-// Fresnel reflectance of a smooth dielectric for unpolarised light; eta = n_incident / n_transmitted.
-float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
-    float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
-    if (sin2_t >= 1.0) { cos_t = 0.0; return 1.0; }
-    cos_t = sqrt(1.0 - sin2_t);
-    float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5 * (rs * rs + rp * rp);
 }
 
 struct Task {

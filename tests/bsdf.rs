@@ -13,10 +13,10 @@ use glam::Vec3;
 use std::f64::consts::PI;
 use vkrt::gpu::commands::submit_and_wait;
 use vkrt::gpu::{Buffer, MemoryLocation};
-use vkrt::layout::constants::*;
-use vkrt::layout::scene_buffers::gpu_material;
-use vkrt::layout::GpuPush;
-use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
+use vkrt::gpu_abi::constants::*;
+use vkrt::prepare::scene_buffers::gpu_material;
+use vkrt::gpu_abi::GpuPush;
+use vkrt::pipeline::{BindingKind, ComputePipeline};
 use vkrt::scene::Material;
 
 const SAMPLES: u32 = 1 << 16;
@@ -59,7 +59,7 @@ fn run_probe(mats: &[Material]) -> Vec<Probe> {
     let count = mats.len() as u64 * ANGLES.len() as u64 * SAMPLES as u64;
     let out = Buffer::new(&ctx, "probe output", count * 48, storage, MemoryLocation::Device).unwrap();
     let bindings = [(BINDING_MATERIALS, BindingKind::Storage), (BINDING_ACCUM, BindingKind::Storage)];
-    let pipeline = ComputePipeline::new(&ctx, "bsdf probe", shaders::BSDF_PROBE, &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
+    let pipeline = ComputePipeline::new(&ctx, "bsdf probe", &common::probe_spirv("bsdf_probe"), &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
     pipeline.bind(BINDING_MATERIALS, &mat_buf).unwrap();
     pipeline.bind(BINDING_ACCUM, &out).unwrap();
     let push = GpuPush { sample_count: SAMPLES, sample_base: 1234, ..bytemuck::Zeroable::zeroed() };

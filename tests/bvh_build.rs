@@ -9,7 +9,8 @@ use glam::Vec3;
 use vkrt::bvh::sah::sah_cost;
 use vkrt::bvh::stats::{stats, BvhStats};
 use vkrt::bvh::validate::validate;
-use vkrt::bvh::{build, Aabb, BuildConfig, BuilderKind, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
+use vkrt::geom::Aabb;
+use vkrt::bvh::{build, BuildConfig, BuilderKind, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
 
 const BUILDERS: [BuilderKind; 4] = BuilderKind::ALL;
 

@@ -6,12 +6,13 @@ mod common;
 use common::Pcg;
 use glam::Vec3;
 use vkrt::bvh::{self, BuildConfig, BuilderKind};
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
-use vkrt::integrator::ray_query::trace_rays;
-use vkrt::layout::constants::PRIM_NONE;
-use vkrt::layout::cpu_trace;
-use vkrt::layout::{GpuHit, GpuRay, LayoutKind};
-use vkrt::scene::procedural::scene_of;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::query::ray_query::trace_rays;
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::accel::leaf;
+use vkrt::accel::LayoutKind;
+use vkrt::gpu_abi::{GpuHit, GpuRay};
+use common::procedural::scene_of;
 use vkrt::scene::{Scene, Triangle};
 
 fn tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Triangle {
@@ -28,15 +29,15 @@ fn check(name: &str, scene: &Scene, rays: &[GpuRay]) -> Vec<GpuHit> {
     let ctx = common::gpu_context();
     let mut last = Vec::new();
     for (builder, layout) in BuilderKind::ALL.into_iter().flat_map(|b| LayoutKind::ALL.map(|l| (b, l))) {
-        let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
+        let (boxes, centroids) = vkrt::scene::triangle_boxes(&scene.triangles);
         let tree = bvh::build(builder, &boxes, &centroids, &BuildConfig::default());
         bvh::validate::validate(&tree, &boxes).unwrap_or_else(|e| panic!("{name} {builder:?}: {e}"));
-        let prepared = PreparedScene::with_layout(scene, builder, layout, &BuildConfig::default()).unwrap();
+        let prepared = PreparedScene::new(scene, &PrepareOptions { builder: builder, layout: layout, ..Default::default() }).unwrap();
         let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-        let hits = trace_rays(&ctx, &gpu, rays, false).unwrap();
+        let hits = trace_rays(&ctx, &gpu.bvh, rays, false).unwrap();
         for (i, (r, g)) in rays.iter().zip(&hits).enumerate() {
             let twin = prepared.flat.trace(r, false);
-            let brute = cpu_trace::brute_force(&scene.triangles, r);
+            let brute = leaf::brute_force(&scene.triangles, r);
             assert_eq!(twin.prim, g.prim, "{name} {builder:?} {layout:?} ray {i} {r:?}: GPU vs CPU twin");
             assert_eq!(brute.t == f32::INFINITY, g.prim == PRIM_NONE, "{name} {builder:?} ray {i}: hit vs brute force");
             if brute.prim != PRIM_NONE {
@@ -51,7 +52,7 @@ fn check(name: &str, scene: &Scene, rays: &[GpuRay]) -> Vec<GpuHit> {
 
 #[test]
 fn nan_inf_zero_and_denormal_rays_are_defined() {
-    let scene = vkrt::scene::procedural::random_soup(300, 9);
+    let scene = common::procedural::random_soup(300, 9);
     let nan = f32::NAN;
     let inf = f32::INFINITY;
     let tiny = f32::from_bits(1); // the smallest denormal
@@ -146,11 +147,11 @@ fn a_million_triangles_in_one_small_box() {
     let scene = scene_of(tris);
     let rays: Vec<GpuRay> = (0..16).map(|k| ray(Vec3::new(k as f32 * 1e-5, 0.0, 1.0), -Vec3::Z)).collect();
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::new(&scene, BuilderKind::Sah, &BuildConfig::default()).unwrap();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-    let hits = trace_rays(&ctx, &gpu, &rays, false).unwrap();
+    let hits = trace_rays(&ctx, &gpu.bvh, &rays, false).unwrap();
     for (r, h) in rays.iter().zip(&hits) {
-        let brute = cpu_trace::brute_force(&scene.triangles, r);
+        let brute = leaf::brute_force(&scene.triangles, r);
         assert_eq!(brute.t, h.t, "million slivers: nearest hit differs");
         assert!(h.prim != PRIM_NONE);
     }

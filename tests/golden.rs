@@ -11,8 +11,8 @@
 
 mod common;
 
-use vkrt::bvh::{BuildConfig, BuilderKind};
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+use vkrt::bvh::BuilderKind;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::{whitted, Image, RenderSettings};
 use vkrt::output::compare::compare;
 use vkrt::output::{read_image, write_image};
@@ -24,9 +24,9 @@ const GOLDEN_BAD_THRESHOLD: f32 = 0.02;
 fn render_whitted(scene_path: &str, settings: &RenderSettings, builder: BuilderKind) -> Image {
     let scene = vkrt::scene::load_scene(&common::repo_path(scene_path)).unwrap();
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::new(&scene, builder, &BuildConfig::default()).unwrap();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: builder, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-    let (image, stats) = whitted::render(&ctx, &scene, &gpu, settings, &mut |_, _| {}).unwrap();
+    let (image, stats) = whitted::render(&ctx, &gpu, settings, &mut |_, _| {}).unwrap();
     assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples in {scene_path}");
     common::assert_no_validation_messages(&ctx);
     image

@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-use vkrt::integrator::checkpoint::Checkpoint;
+use vkrt::integrator::path::checkpoint::Checkpoint;
 
 const SCENE: &str = "scenes/cornell-measured/cornell.yaml";
 

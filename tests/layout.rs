@@ -1,71 +1,70 @@
-//! The GLSL mirror of every GPU struct (shaders/include/layout.glsl) checked against Rust:
+//! The GLSL mirror of every GPU struct (shaders/include/gpu_abi.glsl) checked against Rust:
 //! member names, offsets, struct sizes and array strides as the compiled SPIR-V says them,
 //! and every binding number. Also runs `spirv-val` on every shader variant.
+//!
+//! The Rust side comes from `gpu_abi::ALL_STRUCTS`, which the macro that defines the structs
+//! fills, so no struct can escape the check; the node struct of each BVH layout comes from the
+//! layout probe built for that layout (`accel::LAYOUTS`).
+
+mod common;
 
 use std::collections::HashMap;
-use std::mem::{offset_of, size_of};
-use vkrt::layout::constants::*;
-use vkrt::layout::*;
-
-/// (member name, offset) of each field, in declaration order, from the Rust definition.
-macro_rules! rust_fields {
-    ($ty:ty { $($field:ident),* $(,)? }) => {
-        (stringify!($ty), size_of::<$ty>(), vec![$((stringify!($field), offset_of!($ty, $field))),*])
-    };
-}
+use std::mem::size_of;
+use vkrt::accel::LAYOUTS;
+use vkrt::gpu_abi::constants::*;
+use vkrt::gpu_abi::*;
 
 struct SpirvStruct {
     members: Vec<(String, u32)>,
     span: u32,
 }
 
+/// The layout probe built for the threaded layout: every struct and binding but the other
+/// layouts' node structs.
 fn probe_module() -> naga::Module {
-    parse(vkrt::pipeline::shaders::LAYOUT_PROBE)
+    parse(&common::probe_spirv("layout_probe_threaded"))
 }
 
 fn parse(spv: &[u8]) -> naga::Module {
     naga::front::spv::parse_u8_slice(spv, &naga::front::spv::Options::default()).expect("naga reads the layout probe")
 }
 
-/// A layout's node struct, from the probe compiled for that layout (the node binding holds it
-/// there), with the node binding's number and the struct's stride.
-fn check_node_mirror(spv: &[u8], name: &str, size: usize, fields: &[(&str, usize)]) {
-    let module = parse(spv);
-    let structs = spirv_structs(&module);
+/// Checks one struct of `structs` (from the SPIR-V) against its Rust layout.
+fn check_struct(structs: &HashMap<String, SpirvStruct>, rust: &StructLayout) {
+    let name = rust.name;
     let s = structs.get(name).unwrap_or_else(|| panic!("struct {name} is missing from the SPIR-V"));
-    let rust: Vec<(String, u32)> = fields.iter().map(|(n, o)| (n.to_string(), *o as u32)).collect();
-    assert_eq!(s.members, rust, "members and offsets of {name}: SPIR-V (left) vs Rust (right)");
-    assert_eq!(s.span as usize, size, "size of {name}");
-    let nodes = module
-        .global_variables
-        .iter()
-        .find(|(_, v)| module.types[v.ty].name.as_deref() == Some("Nodes"))
-        .map(|(_, v)| v)
-        .expect("the Nodes block");
-    assert_eq!(nodes.binding.as_ref().map(|b| b.binding), Some(BINDING_NODES));
-    let naga::TypeInner::Struct { members, .. } = &module.types[nodes.ty].inner else { panic!("Nodes is not a block") };
-    let naga::TypeInner::Array { base, stride, .. } = &module.types[members[0].ty].inner else { panic!("Nodes holds no array") };
-    assert_eq!(module.types[*base].name.as_deref(), Some(name));
-    assert_eq!(*stride as usize, size);
+    let fields: Vec<(String, u32)> = rust.fields.iter().map(|(n, o)| (n.to_string(), *o as u32)).collect();
+    assert_eq!(s.members, fields, "members and offsets of {name}: SPIR-V (left) vs Rust (right)");
+    assert_eq!(s.span as usize, rust.size, "size of {name}: SPIR-V {} vs Rust {}", s.span, rust.size);
 }
 
-#[test]
-fn parent_link_node_matches_its_glsl_mirror() {
-    let (name, size, fields) = rust_fields!(GpuParentNode { bmin, parent, bmax, leaf });
-    check_node_mirror(vkrt::pipeline::shaders::LAYOUT_PROBE_PARENT_LINK, name, size, &fields);
+/// Every GPU struct Rust defines, by name.
+fn rust_structs() -> HashMap<&'static str, StructLayout> {
+    ALL_STRUCTS.iter().flat_map(|group| group.iter()).map(|s| (s.name, *s)).collect()
 }
 
+/// Each layout's node struct, from the probe built for that layout (where the node binding
+/// holds it), with the node binding's number and the array's stride.
 #[test]
-fn compact_node_matches_its_glsl_mirror() {
-    let (name, size, fields) = rust_fields!(GpuCompactNode { min_xy, min_z_max_x, max_yz, link });
-    check_node_mirror(vkrt::pipeline::shaders::LAYOUT_PROBE_COMPACT, name, size, &fields);
-}
-
-#[test]
-fn wide_node_matches_its_glsl_mirror() {
-    let (name, size, fields) =
-        rust_fields!(GpuWideNode { min_x, min_y, min_z, max_x, max_y, max_z, children, parent, info, _pad0, _pad1 });
-    check_node_mirror(vkrt::pipeline::shaders::LAYOUT_PROBE_WIDE, name, size, &fields);
+fn every_layout_node_matches_its_glsl_mirror() {
+    let rust = rust_structs();
+    for layout in &LAYOUTS {
+        let module = parse(&common::probe_spirv(&format!("layout_probe_{}", layout.id)));
+        let name = layout.node_struct;
+        let node = rust.get(name).unwrap_or_else(|| panic!("layout {}: no GPU struct {name} in gpu_abi", layout.name));
+        check_struct(&spirv_structs(&module), node);
+        let nodes = module
+            .global_variables
+            .iter()
+            .find(|(_, v)| module.types[v.ty].name.as_deref() == Some("Nodes"))
+            .map(|(_, v)| v)
+            .expect("the Nodes block");
+        assert_eq!(nodes.binding.as_ref().map(|b| b.binding), Some(BINDING_NODES));
+        let naga::TypeInner::Struct { members, .. } = &module.types[nodes.ty].inner else { panic!("Nodes is not a block") };
+        let naga::TypeInner::Array { base, stride, .. } = &module.types[members[0].ty].inner else { panic!("Nodes holds no array") };
+        assert_eq!(module.types[*base].name.as_deref(), Some(name), "layout {}: the node binding's struct", layout.name);
+        assert_eq!(*stride as usize, node.size, "layout {}: node stride", layout.name);
+    }
 }
 
 fn spirv_structs(module: &naga::Module) -> HashMap<String, SpirvStruct> {
@@ -79,41 +78,23 @@ fn spirv_structs(module: &naga::Module) -> HashMap<String, SpirvStruct> {
     out
 }
 
+/// Every struct of `gpu_abi` but the other layouts' nodes, from one probe.
 #[test]
 fn every_gpu_struct_matches_its_glsl_mirror() {
-    let module = probe_module();
-    let structs = spirv_structs(&module);
-    let expected = vec![
-        rust_fields!(GpuNode { bmin, escape, bmax, leaf }),
-        rust_fields!(GpuTriangle { v0, prim, v1, _pad0, v2, _pad1 }),
-        rust_fields!(GpuShading { n0, material, n1, _pad0, n2, _pad1 }),
-        rust_fields!(GpuMaterial {
-            diffuse, flags, specular, shininess, emission, ior, diffuse_texture, alpha_texture, _pad0, _pad1
-        }),
-        rust_fields!(GpuTexture { offset, width, height, _pad0 }),
-        rust_fields!(GpuUv { uv0, uv1, uv2, _pad0, _pad1 }),
-        rust_fields!(GpuLight { position, kind, direction, radius, intensity, _pad0 }),
-        rust_fields!(GpuEmitter { v0, prim, v1, area, v2, _pad0, radiance, _pad1 }),
-        rust_fields!(GpuFrame {
-            cam_origin, tan_half_fov_y, cam_forward, aspect, cam_right, width, cam_up, height,
-            ambient, max_depth, light_count, emitter_count, seed, scene_scale, sky_color, sky_texture
-        }),
-        rust_fields!(GpuPush {
-            tile_x, tile_y, sample_base, sample_count, total_spp, ray_count, any_hit, node_count,
-            grid_origin, _pad0, grid_scale, _pad1
-        }),
-        rust_fields!(GpuRay { origin, tmin, direction, tmax }),
-        rust_fields!(GpuHit { t, prim, u, v, nodes_visited, tris_tested, _pad0, _pad1 }),
-        rust_fields!(GpuLightPick { pmf, alias, threshold, _pad0 }),
-        rust_fields!(GpuPathParams { max_depth, rr_depth, sampler_kind, sample_rate, pick_count, nee, inv_total_weight, coherence, adaptive, _pad0, _pad1, _pad2 }),
-    ];
-    for (name, size, fields) in expected {
-        let s = structs.get(name).unwrap_or_else(|| panic!("struct {name} is missing from the SPIR-V"));
-        let spirv: Vec<(String, u32)> = s.members.clone();
-        let rust: Vec<(String, u32)> = fields.iter().map(|(n, o)| (n.to_string(), *o as u32)).collect();
-        assert_eq!(spirv, rust, "members and offsets of {name}: SPIR-V (left) vs Rust (right)");
-        assert_eq!(s.span as usize, size, "size of {name}: SPIR-V {} vs Rust {size}", s.span);
+    let structs = spirv_structs(&probe_module());
+    let mut other_nodes: Vec<&str> = LAYOUTS.iter().map(|l| l.node_struct).filter(|&n| n != LAYOUTS[0].node_struct).collect();
+    other_nodes.dedup();
+    let rust = rust_structs();
+    let mut checked = 0;
+    for s in rust.values() {
+        // A node struct other than the threaded layout's is only in its own layout's probe.
+        if !other_nodes.contains(&s.name) {
+            check_struct(&structs, s);
+            checked += 1;
+        }
     }
+    assert_eq!(checked + other_nodes.len(), rust.len());
+    assert!(rust.contains_key("GpuPathParams") && rust.contains_key("GpuTriangle"), "ALL_STRUCTS misses a file's structs");
 }
 
 /// Binding number -> (block name in GLSL, element struct for arrays, Rust element size).
@@ -165,19 +146,24 @@ fn bindings_and_array_strides_match() {
 }
 
 #[test]
-fn push_constants_fit_the_guaranteed_minimum() {
-    // Vulkan guarantees 128 bytes of push constants on every device.
-    assert!(size_of::<GpuPush>() <= 128);
-}
-
-#[test]
 fn every_shader_variant_passes_spirv_val() {
     let dir = std::env::temp_dir().join(format!("vkrt-spirv-val-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     assert!(!vkrt::pipeline::shaders::ALL.is_empty());
+    let mut files = Vec::new();
     for (name, spv) in vkrt::pipeline::shaders::ALL {
         let path = dir.join(format!("{name}.spv"));
         std::fs::write(&path, spv).unwrap();
+        files.push((name.to_string(), path));
+    }
+    // The test probes too (built, never embedded).
+    let probes = std::path::Path::new(env!("OUT_DIR")).join("probes");
+    for entry in std::fs::read_dir(&probes).expect("the probes folder") {
+        let path = entry.unwrap().path();
+        files.push((path.display().to_string(), path));
+    }
+    assert!(files.len() > vkrt::pipeline::shaders::ALL.len(), "no probes in {}", probes.display());
+    for (name, path) in files {
         let out = std::process::Command::new("spirv-val")
             .args(["--target-env", "vulkan1.2"])
             .arg(&path)

@@ -1,11 +1,14 @@
 //! Scene loaders: the real scenes load with the expected counts, cameras, lights and materials;
 //! bad files fail with an error that names the file and the line or key, and never panic.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use vkrt::error::InputError;
-use vkrt::scene::{load_scene, procedural, Camera, Light, Scene};
+use common::procedural;
+use vkrt::scene::{load_scene, Camera, Light, Scene};
 
 /// A scene kept in this repository (`scenes/`).
 fn repo(rel: &str) -> PathBuf {

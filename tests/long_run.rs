@@ -4,7 +4,7 @@
 
 mod common;
 
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::path::{self, Hooks};
 
 #[test]
@@ -13,12 +13,12 @@ fn thousands_of_batches_produce_no_nan_or_inf() {
     let mut total_batches = 0;
     for (name, batches) in [("CornellBox-Water.obj", 1000u64), ("CornellBox-Sphere.obj", 1000), ("CornellBox-Glossy.obj", 1000)] {
         let scene = vkrt::scene::load_scene(&common::shared_path(&format!("scenes/cornell-box/{name}"))).unwrap();
-        let prepared = PreparedScene::new(&scene, vkrt::bvh::BuilderKind::Sah, &vkrt::bvh::BuildConfig::default()).unwrap();
+        let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: vkrt::bvh::BuilderKind::Sah, ..Default::default() }).unwrap();
         let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
         // One sample per batch: as many submissions as samples.
         let mut settings = common::path_settings(12, 12, batches);
         settings.image.samples_per_batch = 1;
-        let (acc, stats) = path::render(&ctx, &scene, &gpu, &settings, None, &mut Hooks::default()).unwrap();
+        let (acc, stats) = path::render(&ctx, &gpu, &settings, None, &mut Hooks::default()).unwrap();
         println!("{name}: {} batches, {} submissions, {} NaN/Inf samples", acc.samples, stats.submissions, stats.nonfinite_samples);
         assert_eq!(acc.samples, batches);
         assert!(stats.submissions as u64 >= batches, "fewer submissions than batches");

@@ -3,11 +3,12 @@
 
 mod common;
 
-use vkrt::bench::bvh_table::{format_rows, BvhArgs, Format};
-use vkrt::bench::trace_cmd::{run, TraceArgs};
+use vkrt::cli::bvh::{format_rows, BvhArgs, Format};
+use vkrt::cli::trace::{run, TraceArgs};
 use vkrt::bvh::BuilderKind;
-use vkrt::layout::constants::PRIM_NONE;
-use vkrt::layout::{cpu_trace, GpuRay, LayoutKind};
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::accel::{leaf, LayoutKind};
+use vkrt::gpu_abi::GpuRay;
 use vkrt::output::npy::{parse_header, read_hits, write_rays, RayReader};
 
 fn rays(n: usize) -> Vec<GpuRay> {
@@ -105,7 +106,7 @@ fn trace_command_matches_brute_force_for_every_layout() {
     let scene_path = common::repo_path("scenes/cornell-measured/cornell.obj");
     let scene = vkrt::scene::load_scene(&scene_path).unwrap();
     let dir = common::scratch_dir("trace-command");
-    let mut all = vkrt::bench::rays::incoherent(&scene, 2000, 5);
+    let mut all = vkrt::query::rays::incoherent(&scene, 2000, 5);
     // One ray that certainly misses: from outside, pointing away.
     let b = scene.bounds();
     all.push(GpuRay { origin: (b.max + b.extent()).to_array(), tmin: 0.0, direction: [1.0, 1.0, 1.0], tmax: f32::INFINITY });
@@ -120,7 +121,7 @@ fn trace_command_matches_brute_force_for_every_layout() {
             builder: BuilderKind::Reinsertion,
             layout,
             any_hit: false,
-            order: vkrt::integrator::ray_order::RayOrder::Auto,
+            order: vkrt::query::ray_order::RayOrder::Auto,
             device: vkrt::cli::DeviceArgs { device: None },
         };
         let report = run(&args).unwrap();
@@ -129,7 +130,7 @@ fn trace_command_matches_brute_force_for_every_layout() {
         let hits = read_hits(&out).unwrap();
         assert_eq!(hits.len(), all.len());
         for (i, (r, h)) in all.iter().zip(&hits).enumerate() {
-            let brute = cpu_trace::brute_force(&scene.triangles, r);
+            let brute = leaf::brute_force(&scene.triangles, r);
             assert_eq!(h.prim, brute.prim, "{} ray {i}", layout.name());
             if brute.prim == PRIM_NONE {
                 assert_eq!(h.t, f32::INFINITY);
@@ -164,7 +165,7 @@ fn bvh_table_covers_every_builder_and_layout() {
         device: vkrt::cli::DeviceArgs { device: None },
     };
     let ctx = common::gpu_context();
-    let rows = vkrt::bench::bvh_table::scene_rows(&ctx, &scene_path, &scene, &args).unwrap();
+    let rows = vkrt::cli::bvh::scene_rows(&ctx, &scene_path, &scene, &args).unwrap();
     assert_eq!(rows.len(), BuilderKind::ALL.len() * LayoutKind::ALL.len());
     for r in &rows {
         assert!(r.sah > 0.0 && r.nodes > 0 && r.bytes > 0, "{r:?}");

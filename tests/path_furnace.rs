@@ -4,9 +4,9 @@
 mod common;
 
 use glam::Vec3;
-use vkrt::integrator::accumulation::Accumulation;
+use vkrt::integrator::path::accumulation::Accumulation;
 use vkrt::output::compare::compare;
-use vkrt::scene::procedural::{quad, sphere};
+use common::procedural::{quad, sphere};
 use vkrt::scene::{Camera, Light, Material, Scene};
 
 const ALBEDO: f32 = 0.5;

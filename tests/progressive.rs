@@ -5,9 +5,9 @@
 mod common;
 
 use std::process::Command;
-use vkrt::integrator::accumulation::Accumulation;
-use vkrt::integrator::checkpoint::Checkpoint;
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+use vkrt::integrator::path::accumulation::Accumulation;
+use vkrt::integrator::path::checkpoint::Checkpoint;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::path::{self, Hooks, PathSettings, Stop};
 
 const SCENE: &str = "scenes/cornell-measured/cornell.yaml";
@@ -19,9 +19,9 @@ fn cornell() -> vkrt::scene::Scene {
 fn try_render(settings: &PathSettings, resume: Option<Accumulation>) -> anyhow::Result<Accumulation> {
     let scene = cornell();
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::new(&scene, vkrt::bvh::BuilderKind::Sah, &vkrt::bvh::BuildConfig::default()).unwrap();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: vkrt::bvh::BuilderKind::Sah, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-    let result = path::render(&ctx, &scene, &gpu, settings, resume, &mut Hooks::default());
+    let result = path::render(&ctx, &gpu, settings, resume, &mut Hooks::default());
     common::assert_no_validation_messages(&ctx);
     result.map(|(acc, _)| acc)
 }

@@ -6,12 +6,13 @@ mod common;
 
 use common::{gpu_context, Pcg};
 use glam::Vec3;
-use vkrt::bvh::{BuildConfig, BuilderKind};
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
-use vkrt::integrator::ray_order::RayOrder;
-use vkrt::integrator::ray_query::{RayQuery, ORDER_WINDOW, RAYS_PER_BATCH};
-use vkrt::layout::constants::PRIM_NONE;
-use vkrt::layout::{GpuRay, LayoutKind};
+use vkrt::bvh::BuilderKind;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::query::ray_order::RayOrder;
+use vkrt::query::ray_query::{RayQuery, ORDER_WINDOW, RAYS_PER_BATCH};
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::accel::LayoutKind;
+use vkrt::gpu_abi::GpuRay;
 
 /// Rays with origins uniform in the box's bounds and directions uniform on the sphere.
 fn incoherent_rays(n: usize, lo: Vec3, hi: Vec3, seed: u64) -> Vec<GpuRay> {
@@ -44,16 +45,16 @@ fn every_order_gives_the_same_hits() {
         .collect();
     let ctx = gpu_context();
     for layout in [LayoutKind::Threaded, LayoutKind::ParentLink] {
-        let prepared = PreparedScene::with_layout(&scene, BuilderKind::Sah, layout, &BuildConfig::default()).unwrap();
+        let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout: layout, ..Default::default() }).unwrap();
         let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-        let mut query = RayQuery::new(&ctx, &gpu).unwrap();
+        let mut query = RayQuery::new(&ctx, &gpu.bvh).unwrap();
         query.order = RayOrder::Given;
         let given = query.trace(&rays, false).unwrap();
         assert_eq!(query.rays_reordered(), 0);
         let hit = given.iter().filter(|h| h.prim != PRIM_NONE).count();
         assert!(hit > rays.len() / 2, "{layout:?}: only {hit} of {} rays hit the box", rays.len());
         for order in [RayOrder::Sorted, RayOrder::Auto] {
-            let mut query = RayQuery::new(&ctx, &gpu).unwrap();
+            let mut query = RayQuery::new(&ctx, &gpu.bvh).unwrap();
             query.order = order;
             let got = query.trace(&rays, false).unwrap();
             assert_eq!(query.rays_reordered(), rays.len() as u64, "{layout:?} {order:?}: incoherent rays are sorted");
@@ -61,14 +62,14 @@ fn every_order_gives_the_same_hits() {
             assert!(differ.is_none(), "{layout:?} {order:?}: ray {differ:?} got another hit");
             let any = query.trace(&rays[..200_000], true).unwrap();
             let any_given = {
-                let mut q = RayQuery::new(&ctx, &gpu).unwrap();
+                let mut q = RayQuery::new(&ctx, &gpu.bvh).unwrap();
                 q.order = RayOrder::Given;
                 q.trace(&rays[..200_000], true).unwrap()
             };
             assert!(any == any_given, "{layout:?} {order:?}: any-hit queries differ");
         }
         // Camera rays in scanline order are coherent: auto traces them as given.
-        let mut query = RayQuery::new(&ctx, &gpu).unwrap();
+        let mut query = RayQuery::new(&ctx, &gpu.bvh).unwrap();
         let auto = query.trace(&camera, false).unwrap();
         assert_eq!(query.rays_reordered(), 0, "{layout:?}: camera rays were sorted");
         query.order = RayOrder::Sorted;

@@ -11,9 +11,9 @@ mod common;
 use ash::vk;
 use vkrt::gpu::commands::submit_and_wait;
 use vkrt::gpu::{Buffer, MemoryLocation};
-use vkrt::layout::constants::*;
-use vkrt::layout::GpuPush;
-use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
+use vkrt::gpu_abi::constants::*;
+use vkrt::gpu_abi::GpuPush;
+use vkrt::pipeline::{BindingKind, ComputePipeline};
 
 /// Samples per pixel: 2^LOG_N.
 const LOG_N: u32 = 8;
@@ -29,7 +29,7 @@ fn run_probe(kind: u32, seed: u32) -> Vec<Vec<[[f32; 2]; PAIRS]>> {
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let out = Buffer::new(&ctx, "probe output", count * (PAIRS as u64) * 8, storage, MemoryLocation::Device).unwrap();
     let bindings = [(BINDING_ACCUM, BindingKind::Storage)];
-    let pipeline = ComputePipeline::new(&ctx, "sampler probe", shaders::SAMPLER_PROBE, &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
+    let pipeline = ComputePipeline::new(&ctx, "sampler probe", &common::probe_spirv("sampler_probe"), &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
     pipeline.bind(BINDING_ACCUM, &out).unwrap();
     let push = GpuPush { sample_count: N, total_spp: PIXELS, sample_base: seed, ray_count: kind, ..bytemuck::Zeroable::zeroed() };
     let groups = [(count as u32).div_ceil(WORKGROUP_SIZE_1D), 1, 1];

@@ -10,14 +10,15 @@ mod common;
 
 use common::Pcg;
 use glam::Vec3;
-use vkrt::bvh::{BuildConfig, BuilderKind};
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
-use vkrt::integrator::ray_query::trace_rays;
-use vkrt::layout::constants::PRIM_NONE;
-use vkrt::layout::cpu_trace;
-use vkrt::layout::{GpuRay, LayoutKind};
-use vkrt::scene::closed_meshes::{icosphere, subdivided_cube, torus, IndexedMesh};
-use vkrt::scene::procedural::scene_of;
+use vkrt::bvh::BuilderKind;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::query::ray_query::trace_rays;
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::accel::intersect;
+use vkrt::accel::LayoutKind;
+use vkrt::gpu_abi::GpuRay;
+use common::closed_meshes::{icosphere, subdivided_cube, torus, IndexedMesh};
+use common::procedural::scene_of;
 
 #[test]
 fn closed_meshes_are_closed_and_wound_outward() {
@@ -84,9 +85,9 @@ fn leaks(mesh: &IndexedMesh, name: &str, scale: f32, offset: Vec3, ctx: &vkrt::g
     let mut leaked = 0;
     let mut tried = 0;
     for layout in LayoutKind::ALL {
-    let prepared = PreparedScene::with_layout(&scene, BuilderKind::Sah, layout, &BuildConfig::default()).unwrap();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout: layout, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(ctx, &prepared).unwrap();
-    let gpu_hits = trace_rays(ctx, &gpu, &rays, false).unwrap();
+    let gpu_hits = trace_rays(ctx, &gpu.bvh, &rays, false).unwrap();
     tried += 2 * rays.len();
     for (ray, g) in rays.iter().zip(&gpu_hits) {
         let c = prepared.flat.trace(ray, false);
@@ -98,12 +99,12 @@ fn leaks(mesh: &IndexedMesh, name: &str, scale: f32, offset: Vec3, ctx: &vkrt::g
                 // same t, and on saddle-shaped parts (the torus's inner ring) one of those may
                 // face the ray: then a back-facing triangle must be hit at that same t.
                 scene.triangles[h.prim as usize].cross().dot(dir) > 0.0 || {
-                    let r = cpu_trace::RayPre::new(ray);
+                    let r = intersect::RayPre::new(ray);
                     let exit = scene
                         .triangles
                         .iter()
                         .filter(|t| t.cross().dot(dir) > 0.0)
-                        .filter_map(|t| cpu_trace::intersect_triangle(&r, t.p[0], t.p[1], t.p[2], f32::INFINITY))
+                        .filter_map(|t| intersect::intersect_triangle(&r, t.p[0], t.p[1], t.p[2], f32::INFINITY))
                         .map(|x| x.t)
                         .fold(f32::INFINITY, f32::min);
                     (exit - h.t).abs() <= 1e-5 * h.t
@@ -203,10 +204,10 @@ fn transformed(scene: &Scene, s: f32, o: Vec3) -> Scene {
 
 fn render(ctx: &vkrt::gpu::Context, scene: &Scene, size: u32) -> Image {
     // The image does not depend on the layout (tests/golden.rs); the threaded one compiles fastest.
-    let prepared = PreparedScene::new(scene, BuilderKind::Sah, &BuildConfig::default()).unwrap();
+    let prepared = PreparedScene::new(scene, &PrepareOptions { builder: BuilderKind::Sah, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(ctx, &prepared).unwrap();
     let settings = RenderSettings { width: size, height: size, spp: 1, max_depth: 4, ..RenderSettings::default() };
-    let (image, stats) = whitted::render(ctx, scene, &gpu, &settings, &mut |_, _| {}).unwrap();
+    let (image, stats) = whitted::render(ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
     assert_eq!(stats.nonfinite_samples, 0);
     image
 }
@@ -226,7 +227,7 @@ fn differing_fraction(a: &Image, b: &Image) -> f64 {
 /// A sphere resting on a plane, lit by a point light and a sun at a grazing 89.5 degrees.
 fn sphere_on_plane() -> Scene {
     let mut tris = icosphere(3).to_triangles(1.0, Vec3::new(0.0, 1.0, 0.0), 0);
-    tris.extend(vkrt::scene::procedural::quad(Vec3::new(-6.0, 0.0, 6.0), Vec3::X * 12.0, Vec3::Z * -12.0, 1));
+    tris.extend(common::procedural::quad(Vec3::new(-6.0, 0.0, 6.0), Vec3::X * 12.0, Vec3::Z * -12.0, 1));
     let grazing = 89.5f32.to_radians();
     Scene {
         triangles: tris,
@@ -276,7 +277,7 @@ fn grazing_sun_lights_a_plane_evenly() {
     let kd = 0.6;
     let expected = kd * grazing.cos();
     let plane = Scene {
-        triangles: vkrt::scene::procedural::quad(Vec3::new(-1.0, 0.0, 1.0), Vec3::X * 2.0, Vec3::Z * -2.0, 0).to_vec(),
+        triangles: common::procedural::quad(Vec3::new(-1.0, 0.0, 1.0), Vec3::X * 2.0, Vec3::Z * -2.0, 0).to_vec(),
         materials: vec![Material { name: "plane".into(), diffuse: Vec3::splat(kd), ..Material::default() }],
         lights: vec![Light::Directional { direction: Vec3::new(grazing.sin(), grazing.cos(), 0.0), intensity: Vec3::ONE }],
         camera: Camera { eye: Vec3::new(0.0, 1.5, 0.0), target: Vec3::ZERO, up: -Vec3::Z, fov_y_deg: 50.0 },

@@ -11,9 +11,10 @@ use ash::vk;
 use std::fmt::Debug;
 use vkrt::gpu::commands::submit_and_wait;
 use vkrt::gpu::{Buffer, Context, MemoryLocation, TexelArray, TexelFormat};
-use vkrt::layout::constants::*;
-use vkrt::layout::*;
-use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
+use vkrt::gpu_abi::constants::*;
+use vkrt::accel::LayoutKind;
+use vkrt::gpu_abi::*;
+use vkrt::pipeline::{BindingKind, ComputePipeline};
 
 /// `n` values of `T` from random words, each word a normal float in ±[0.5, 1) with 23 random
 /// bits (so float fields round-trip exactly and no two words are likely equal), with the padding
@@ -109,22 +110,28 @@ fn check_probe<'a>(ctx: &'a Context, probe: &[u8], nodes: impl FnOnce(&mut commo
     common::assert_no_validation_messages(ctx);
 }
 
+/// Every decoder, with the node decoder of each BVH layout (the probe built for that layout).
 #[test]
 fn every_texel_decoder_reads_back_what_the_host_uploaded() {
     let ctx = common::gpu_context();
-    check_probe(&ctx, shaders::TEXEL_DECODE_PROBE, |rng| {
-        case(&ctx, "nodes", BINDING_NODES, BINDING_DECODE_OUT, TexelFormat::Rgba32Uint, values(rng, 37, |_: &mut GpuNode| ()))
-    });
-}
-
-#[test]
-fn the_wide_node_decoder_reads_back_what_the_host_uploaded() {
-    let ctx = common::gpu_context();
-    check_probe(&ctx, shaders::TEXEL_DECODE_PROBE_WIDE, |rng| {
-        let nodes = values(rng, 37, |n: &mut GpuWideNode| {
-            n._pad0 = 0;
-            n._pad1 = 0;
+    for layout in LayoutKind::ALL {
+        eprintln!("layout {}", layout.name());
+        let probe = common::probe_spirv(&format!("texel_decode_probe_{}", layout.info().id));
+        let rgba = TexelFormat::Rgba32Uint;
+        let out = BINDING_DECODE_OUT;
+        check_probe(&ctx, &probe, |rng| match layout {
+            LayoutKind::Threaded | LayoutKind::MultiOrder => {
+                case(&ctx, "nodes", BINDING_NODES, out, rgba, values(rng, 37, |_: &mut GpuNode| ()))
+            }
+            LayoutKind::ParentLink => case(&ctx, "parent-link nodes", BINDING_NODES, out, rgba, values(rng, 37, |_: &mut GpuParentNode| ())),
+            LayoutKind::Compact => case(&ctx, "compact nodes", BINDING_NODES, out, rgba, values(rng, 37, |_: &mut GpuCompactNode| ())),
+            LayoutKind::Wide => {
+                let nodes = values(rng, 37, |n: &mut GpuWideNode| {
+                    n._pad0 = 0;
+                    n._pad1 = 0;
+                });
+                case(&ctx, "wide nodes", BINDING_NODES, out, rgba, nodes)
+            }
         });
-        case(&ctx, "wide nodes", BINDING_NODES, BINDING_DECODE_OUT, TexelFormat::Rgba32Uint, nodes)
-    });
+    }
 }

@@ -6,11 +6,11 @@
 mod common;
 
 use glam::{Vec2, Vec3};
-use vkrt::bvh::{BuildConfig, BuilderKind};
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+use vkrt::bvh::BuilderKind;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::path::{PathSettings, Stop};
 use vkrt::integrator::{whitted, Image, RenderSettings};
-use vkrt::layout::LayoutKind;
+use vkrt::accel::LayoutKind;
 use vkrt::scene::{Camera, Light, Material, Scene, Sky, Texture, Triangle};
 
 const W: u32 = 8;
@@ -37,11 +37,11 @@ fn albedo_scene(triangles: Vec<Triangle>, materials: Vec<Material>, textures: Ve
 
 fn whitted_image(scene: &Scene, layout: LayoutKind, size: (u32, u32), all_features: bool) -> Image {
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::with_layout(scene, BuilderKind::Sah, layout, &BuildConfig::default()).unwrap();
+    let prepared = PreparedScene::new(scene, &PrepareOptions { builder: BuilderKind::Sah, layout: layout, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
     let settings =
         RenderSettings { width: size.0, height: size.1, spp: 1, max_depth: 3, all_features, ..RenderSettings::default() };
-    let (image, stats) = whitted::render(&ctx, scene, &gpu, &settings, &mut |_, _| {}).unwrap();
+    let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
     assert_eq!(stats.nonfinite_samples, 0);
     common::assert_no_validation_messages(&ctx);
     image
@@ -167,7 +167,7 @@ fn see_through_texels_show_what_is_behind_in_every_layout() {
     let mut tris = uv_quad(Vec3::new(-1.0, -1.0, 0.0), Vec3::X * 2.0, Vec3::Y * 2.0, Vec2::ZERO, Vec2::ONE, 0).to_vec();
     tris.extend(uv_quad(Vec3::new(-4.0, -4.0, -1.0), Vec3::X * 8.0, Vec3::Y * 8.0, Vec2::ZERO, Vec2::ONE, 1));
     let scene = albedo_scene(tris, vec![cutout_material(), green], vec![checker_alpha()]);
-    assert!(vkrt::scene::features::Features::of(&scene).has(vkrt::scene::features::ALPHA));
+    assert!(vkrt::prepare::features::Features::of(&scene).has(vkrt::prepare::features::ALPHA));
     for layout in LayoutKind::ALL {
         let image = whitted_image(&scene, layout, (W, W), false);
         for j in 0..W {
@@ -338,16 +338,16 @@ fn specialised_and_all_features_shaders_agree() {
         assert!(d <= 1e-5, "{name}: path specialised vs all-features differ by {d}");
     }
     // Every feature is on in at least one scene, so each one's removal is covered.
-    for f in vkrt::scene::features::ALL {
-        assert!(scenes.iter().any(|(_, s)| vkrt::scene::features::Features::of(s).has(f)), "no scene uses {}", f.name);
+    for f in vkrt::prepare::features::ALL {
+        assert!(scenes.iter().any(|(_, s)| vkrt::prepare::features::Features::of(s).has(f)), "no scene uses {}", f.name);
     }
 }
 
 #[test]
 fn a_diffuse_only_scene_turns_every_optional_feature_off() {
     let scene = load("scenes/lab/cornell_box/cornell_box.yaml");
-    let f = vkrt::scene::features::Features::of(&scene);
-    use vkrt::scene::features::*;
+    let f = vkrt::prepare::features::Features::of(&scene);
+    use vkrt::prepare::features::*;
     for off in [TEXTURES, ALPHA, DIELECTRIC, MIRROR, EMITTERS, SKY, SPOT, DIRECTIONAL] {
         assert!(!f.has(off), "{} should be off:\n{}", off.name, f.report());
     }

@@ -7,11 +7,13 @@ mod common;
 use common::{gpu_context, Pcg};
 use glam::Vec3;
 use vkrt::bvh::{self, BuildConfig, BuilderKind, Bvh, NodeKind};
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
-use vkrt::integrator::ray_query::trace_rays;
-use vkrt::layout::constants::PRIM_NONE;
-use vkrt::layout::cpu_trace::{self, RayPre};
-use vkrt::layout::{GpuHit, GpuRay, LayoutKind};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::query::ray_query::trace_rays;
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::accel::intersect::{self, RayPre};
+use vkrt::accel::leaf;
+use vkrt::accel::LayoutKind;
+use vkrt::gpu_abi::{GpuHit, GpuRay};
 use vkrt::scene::{Scene, Triangle};
 
 const BUILDERS: &[BuilderKind] = &BuilderKind::ALL;
@@ -20,7 +22,7 @@ const T_TOLERANCE: f32 = 1e-5;
 /// Closest hit by walking the `Bvh` node tree (before flattening), nearest child first.
 fn tree_walk(bvh: &Bvh, tris: &[Triangle], ray: &GpuRay) -> GpuHit {
     let r = RayPre::new(ray);
-    let mut best = cpu_trace::miss();
+    let mut best = leaf::miss();
     let mut tmax = ray.tmax;
     if bvh.nodes.is_empty() {
         return best;
@@ -28,7 +30,7 @@ fn tree_walk(bvh: &Bvh, tris: &[Triangle], ray: &GpuRay) -> GpuHit {
     let mut stack = vec![0u32];
     while let Some(i) = stack.pop() {
         let node = &bvh.nodes[i as usize];
-        if cpu_trace::intersect_box(&r, node.bounds.min, node.bounds.max, tmax).is_none() {
+        if intersect::intersect_box(&r, node.bounds.min, node.bounds.max, tmax).is_none() {
             continue;
         }
         match node.kind {
@@ -39,7 +41,7 @@ fn tree_walk(bvh: &Bvh, tris: &[Triangle], ray: &GpuRay) -> GpuHit {
             NodeKind::Leaf { first, count } => {
                 for &prim in &bvh.prim_indices[first as usize..(first + count) as usize] {
                     let t = &tris[prim as usize];
-                    if let Some(h) = cpu_trace::intersect_triangle(&r, t.p[0], t.p[1], t.p[2], tmax) {
+                    if let Some(h) = intersect::intersect_triangle(&r, t.p[0], t.p[1], t.p[2], tmax) {
                         tmax = h.t;
                         best = GpuHit { t: h.t, prim, u: h.u, v: h.v, ..best };
                     }
@@ -104,20 +106,20 @@ fn test_rays(scene: &Scene, n: usize, seed: u64) -> Vec<GpuRay> {
 /// rays hit.
 fn check_chain(name: &str, scene: &Scene, rays: &[GpuRay]) -> usize {
     let ctx = gpu_context();
-    let brute: Vec<GpuHit> = rays.iter().map(|r| cpu_trace::brute_force(&scene.triangles, r)).collect();
+    let brute: Vec<GpuHit> = rays.iter().map(|r| leaf::brute_force(&scene.triangles, r)).collect();
     for &builder in BUILDERS {
-        let (boxes, centroids) = bvh::triangle_boxes(&scene.triangles);
+        let (boxes, centroids) = vkrt::scene::triangle_boxes(&scene.triangles);
         let tree = bvh::build(builder, &boxes, &centroids, &BuildConfig::default());
         for (i, r) in rays.iter().enumerate() {
             let walked = tree_walk(&tree, &scene.triangles, r);
             assert_same_hit(&format!("{name} {builder:?} ray {i}: tree walk vs brute force"), r, &brute[i], &walked);
         }
         for layout in LayoutKind::ALL {
-            let prepared = PreparedScene::with_layout(scene, builder, layout, &BuildConfig::default()).unwrap();
+            let prepared = PreparedScene::new(scene, &PrepareOptions { builder: builder, layout: layout, ..Default::default() }).unwrap();
             assert_eq!(prepared.flat.layout(), layout);
             let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-            let gpu_hits = trace_rays(&ctx, &gpu, rays, false).unwrap();
-            let gpu_any = trace_rays(&ctx, &gpu, rays, true).unwrap();
+            let gpu_hits = trace_rays(&ctx, &gpu.bvh, rays, false).unwrap();
+            let gpu_any = trace_rays(&ctx, &gpu.bvh, rays, true).unwrap();
             for (i, r) in rays.iter().enumerate() {
                 let what = format!("{name} {builder:?} {} ray {i}", layout.name());
                 let twin = prepared.flat.trace(r, false);
@@ -141,7 +143,7 @@ fn check_chain(name: &str, scene: &Scene, rays: &[GpuRay]) -> usize {
 #[test]
 fn random_soups_agree_along_the_chain() {
     for (n, seed) in [(1usize, 1u64), (7, 2), (500, 3), (5000, 4)] {
-        let scene = vkrt::scene::procedural::random_soup(n, seed);
+        let scene = common::procedural::random_soup(n, seed);
         let rays = test_rays(&scene, 3000, seed + 100);
         let hits = check_chain(&format!("soup {n}"), &scene, &rays);
         // The aimed third of the rays nearly always hit: the test is not vacuous.
@@ -179,9 +181,9 @@ fn empty_scene_misses_everything() {
     let ctx = gpu_context();
     let rays = vec![ray(Vec3::ZERO, Vec3::X), ray(Vec3::ONE, -Vec3::Y)];
     for layout in LayoutKind::ALL {
-        let prepared = PreparedScene::with_layout(&scene, BuilderKind::Sah, layout, &BuildConfig::default()).unwrap();
+        let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout: layout, ..Default::default() }).unwrap();
         let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-        let hits = trace_rays(&ctx, &gpu, &rays, false).unwrap();
+        let hits = trace_rays(&ctx, &gpu.bvh, &rays, false).unwrap();
         assert!(hits.iter().all(|h| h.prim == PRIM_NONE && h.t == f32::INFINITY));
         assert!(rays.iter().all(|r| prepared.flat.trace(r, false).prim == PRIM_NONE));
     }

@@ -5,20 +5,20 @@
 mod common;
 
 use glam::Vec3;
-use vkrt::bvh::{BuildConfig, BuilderKind};
-use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+use vkrt::bvh::BuilderKind;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::{whitted, RenderSettings};
-use vkrt::scene::procedural::quad;
+use common::procedural::quad;
 use vkrt::scene::{Camera, Light, Material, Scene, Triangle};
 
 /// Renders a 3x3 image with one sample at each pixel centre and returns the centre pixel,
 /// whose ray runs exactly along the camera's forward axis.
 fn centre_pixel(scene: &Scene, max_depth: u32) -> [f32; 3] {
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::new(scene, BuilderKind::Sah, &BuildConfig::default()).unwrap();
+    let prepared = PreparedScene::new(scene, &PrepareOptions { builder: BuilderKind::Sah, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
     let settings = RenderSettings { width: 3, height: 3, spp: 1, max_depth, ..RenderSettings::default() };
-    let (image, stats) = whitted::render(&ctx, scene, &gpu, &settings, &mut |_, _| {}).unwrap();
+    let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
     assert_eq!(stats.nonfinite_samples, 0);
     common::assert_no_validation_messages(&ctx);
     image.get(1, 1)

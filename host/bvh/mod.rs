@@ -1,16 +1,15 @@
 //! Bounding volume hierarchies, built on the CPU.
 //!
-//! A builder sees only boxes and centroids (never triangles) and returns a [`Bvh`]: a node tree
-//! plus the order in which leaves reference primitives. [`validate`] checks the invariants;
-//! [`sah`] scores a tree; `crate::layout` flattens it for the GPU.
+//! A builder sees only boxes and centroids (never triangles, never a GPU format) and returns a
+//! [`Bvh`]: a node tree plus the order in which leaves reference primitives. [`validate`]
+//! checks the invariants; [`sah`] scores a tree; `crate::accel` lays it out for the GPU.
 
-pub mod aabb;
 pub mod build;
 pub mod sah;
 pub mod stats;
 pub mod validate;
 
-pub use aabb::Aabb;
+use crate::geom::Aabb;
 
 /// A node of a binary BVH.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,17 +34,18 @@ pub struct Bvh {
     pub prim_indices: Vec<u32>,
 }
 
-/// The most primitives a leaf may hold. The flat layouts pack a leaf's count into
-/// [`crate::layout::constants::LEAF_COUNT_BITS`] bits, and builders must split (by index, if
-/// centroids coincide) rather than exceed it.
-pub const MAX_LEAF_SIZE: u32 = (1 << crate::layout::constants::LEAF_COUNT_BITS) - 1;
+/// The most primitives a leaf may hold: builders split (by index, if centroids coincide)
+/// rather than exceed it. 255 keeps a leaf's count in one byte; the flat layouts rely on that
+/// (`crate::accel` checks at compile time that its leaf encoding holds this count).
+pub const MAX_LEAF_SIZE: u32 = 255;
 
 /// Which builder to run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
 pub enum BuilderKind {
     /// Split at the median centroid along the widest centroid axis: fast, lower quality.
     Median,
     /// Binned surface area heuristic: slower, better trees.
+    #[default]
     Sah,
     /// Full-sweep SAH: every split between sorted centroids; best top-down object splits.
     SweepSah,
@@ -92,9 +92,4 @@ pub fn build(kind: BuilderKind, boxes: &[Aabb], centroids: &[glam::Vec3], config
             build::reinsertion::optimize(tree, config)
         }
     }
-}
-
-/// Boxes and centroids of a scene's triangles, the only input a builder sees.
-pub fn triangle_boxes(tris: &[crate::scene::Triangle]) -> (Vec<Aabb>, Vec<glam::Vec3>) {
-    tris.iter().map(|t| (t.bounds(), t.centroid())).unzip()
 }

@@ -5,7 +5,8 @@
 //! flatteners and traversals rely on is checked here, and the first violation is reported with the
 //! node it was found at.
 
-use crate::bvh::{Aabb, Bvh, NodeKind, MAX_LEAF_SIZE};
+use crate::bvh::{Bvh, NodeKind, MAX_LEAF_SIZE};
+use crate::geom::Aabb;
 
 /// Check `bvh` against the primitive `boxes` it was built from:
 /// - `prim_indices` is a permutation of `0..boxes.len()`;

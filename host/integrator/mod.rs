@@ -1,44 +1,15 @@
-//! Integrators: compute shaders that turn a scene on the GPU into an image.
+//! Integrators: compute shaders that turn a prepared scene on the GPU (`crate::prepare::GpuScene`)
+//! into an image. [`whitted`] renders in one pass of tiles; [`path`] renders progressively, in
+//! short batches of samples, until a stop rule holds. Both dispatch through [`tiles`] and read
+//! the frame uniform [`frame`] makes.
 
-pub mod accumulation;
-pub mod adaptive;
-pub mod checkpoint;
 pub mod frame;
-pub mod gpu_scene;
-pub mod light_table;
+pub mod image;
 pub mod path;
-pub mod ray_order;
-pub mod ray_query;
 pub mod tiles;
 pub mod whitted;
 
-/// A linear-radiance RGB image, row 0 at the top.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<[f32; 3]>,
-}
-
-impl Image {
-    pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![[0.0; 3]; (width as usize) * (height as usize)] }
-    }
-    pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
-        self.pixels[(y * self.width + x) as usize]
-    }
-    /// Mean of each channel.
-    pub fn mean(&self) -> [f64; 3] {
-        let mut m = [0.0f64; 3];
-        for p in &self.pixels {
-            for c in 0..3 {
-                m[c] += p[c] as f64;
-            }
-        }
-        let n = self.pixels.len().max(1) as f64;
-        m.map(|v| v / n)
-    }
-}
+pub use image::Image;
 
 /// Settings shared by the integrators.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,8 +33,8 @@ pub struct RenderSettings {
 
 impl RenderSettings {
     /// The features the shader is specialised for: the scene's, or all of them.
-    pub fn features(&self, scene: &crate::scene::Scene) -> crate::scene::features::Features {
-        if self.all_features { crate::scene::features::Features::all() } else { crate::scene::features::Features::of(scene) }
+    pub fn features(&self, scene: &crate::prepare::SceneInfo) -> crate::prepare::Features {
+        if self.all_features { crate::prepare::Features::all() } else { scene.features.clone() }
     }
 }
 

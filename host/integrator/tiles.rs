@@ -5,8 +5,8 @@
 use super::RenderSettings;
 use crate::gpu::commands::submit_and_wait;
 use crate::gpu::{Buffer, Context};
-use crate::layout::constants::*;
-use crate::layout::GpuPush;
+use crate::gpu_abi::constants::*;
+use crate::gpu_abi::GpuPush;
 use crate::pipeline::ComputePipeline;
 use anyhow::{Context as _, Result};
 
@@ -26,7 +26,7 @@ pub fn tile_count(settings: &RenderSettings) -> u64 {
 
 /// Renders samples `sample_base .. sample_base + sample_count` of every pixel, one submission
 /// per tile; `on_tile()` runs after each. `total_spp` goes to the shader (for stratification).
-/// `scene` is the scene's part of the push constants ([`GpuScene::push`]).
+/// `scene` is the scene's part of the push constants (`GpuBvh::push`).
 #[allow(clippy::too_many_arguments)]
 pub fn dispatch_samples(
     ctx: &Context,

@@ -12,7 +12,7 @@
 //! Reading never panics: a malformed file is an error naming the file and what is wrong. Hits are
 //! written to a temporary file beside the target and renamed into place when complete.
 
-use crate::layout::{GpuHit, GpuRay};
+use crate::gpu_abi::{GpuHit, GpuRay};
 use anyhow::{bail, Context as _, Result};
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Seek, Write};

@@ -54,7 +54,7 @@ impl Camera {
     }
 
     /// A camera looking at `bounds` from the front (+z), far enough back to see all of it.
-    pub fn framing(bounds: &crate::bvh::Aabb) -> Self {
+    pub fn framing(bounds: &crate::geom::Aabb) -> Self {
         let fov_y_deg: f32 = 45.0;
         if bounds.is_empty() {
             return Self::default();

@@ -16,7 +16,8 @@ use glam::Vec3;
 use yaml_rust2::yaml::Hash;
 use yaml_rust2::{Yaml, YamlLoader};
 
-use super::obj::{default_light, finish_scene, load_obj_meshes, push_triangles, warn};
+use super::assemble::{default_light, finish_scene, push_triangles};
+use super::obj::load_obj_meshes;
 use super::{Camera, Light, Material, Scene, Triangle};
 use crate::error::InputError;
 
@@ -57,6 +58,7 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
         dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
         scene: Scene::default(),
     };
+    lab.scene.stats.read_input(path);
     if docs.len() > 1 {
         lab.warn_at(None, "only the first YAML document is read");
     }
@@ -105,13 +107,14 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
         for face in &faces {
             let t = crate::scene::Texture::load(face).with_context(|| format!("{}: Skyboxes", path.display()))?;
             scene.textures.push(t);
+            scene.stats.read_input(face);
         }
         scene.sky = crate::scene::Sky::CubeMap { first_texture, scale: Vec3::ONE };
     }
     scene.ambient = ambient.unwrap_or(Vec3::ZERO);
     if scene.lights.is_empty() && scene.emissive_triangles().is_empty() {
         let msg = "no lights and no emitting material; added a directional light over the camera's shoulder";
-        warn(&mut scene.stats, InputError::new(path, None, msg).to_string());
+        scene.stats.warn(InputError::new(path, None, msg).to_string());
         scene.lights.push(default_light(&scene.camera));
         scene.ambient = ambient.unwrap_or(Vec3::splat(0.05));
     }
@@ -161,7 +164,7 @@ impl Lab<'_> {
 
     fn warn_at(&mut self, key: Option<&str>, message: &str) {
         let e = InputError::new(self.file, key.map(|k| format!("key {k}")), message);
-        warn(&mut self.scene.stats, e.to_string());
+        self.scene.stats.warn(e.to_string());
     }
 
     /// Warns about every key of `h` not in `known`.
@@ -367,7 +370,10 @@ impl Lab<'_> {
             let mesh = load_obj_meshes(&mesh_path, Some(material))
                 .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
             for w in mesh.warnings {
-                warn(&mut self.scene.stats, w);
+                self.scene.stats.warn(w);
+            }
+            for p in &mesh.inputs {
+                self.scene.stats.read_input(p);
             }
             let triangles = mesh.triangles.into_iter().map(|t| transform(t, scale, shift));
             push_triangles(&mut self.scene, triangles);
@@ -386,7 +392,10 @@ impl Lab<'_> {
             let mesh = load_obj_meshes(&mesh_path, None)
                 .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
             for w in mesh.warnings {
-                warn(&mut self.scene.stats, w);
+                self.scene.stats.warn(w);
+            }
+            for p in &mesh.inputs {
+                self.scene.stats.read_input(p);
             }
             let offset = self.scene.materials.len() as u32;
             self.scene.materials.extend(mesh.materials);

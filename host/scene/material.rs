@@ -26,7 +26,7 @@ pub struct Material {
     pub alpha_map: Option<std::path::PathBuf>,
     /// Index into `Scene::textures` of the decoded `diffuse_map`, whose sRGB colour replaces
     /// `diffuse` (the lab renderer's rule: albedo = texel^2.2, Kd ignored). Set by
-    /// `texture_binding::load_material_textures`.
+    /// `material_textures::load_material_textures`.
     pub diffuse_texture: Option<u32>,
     /// Index into `Scene::textures` of the texture whose alpha cuts the surface out: `alpha_map`,
     /// or the diffuse texture's own alpha channel. Only set when some texel is see-through.

@@ -1,20 +1,19 @@
 //! The renderer's view of a scene: triangles, materials, lights, a camera.
 //!
-//! Loaders ([`obj`], [`lab_yaml`]) produce a [`Scene`]; everything after them (BVH builders,
-//! layouts, integrators) reads only this. Coordinates are world space, right-handed, any unit.
+//! Loaders ([`obj`], [`lab_yaml`]) produce a [`Scene`]; everything after them (the prepare
+//! stage, `vkrt trace`'s ray sets) reads only this. Coordinates are world space, right-handed,
+//! any unit. Depends on `geom` only: no BVH, no GPU format.
 
+pub mod assemble;
 pub mod camera;
-pub mod closed_meshes;
-pub mod features;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;
 pub mod material;
+pub mod material_textures;
 pub mod obj;
-pub mod procedural;
 pub mod sky;
 pub mod texture;
-pub mod texture_binding;
 
 pub use camera::Camera;
 pub use light::Light;
@@ -23,7 +22,9 @@ pub use material::Material;
 pub use sky::Sky;
 pub use texture::Texture;
 
+use crate::geom::Aabb;
 use glam::{Vec2, Vec3};
+use std::path::{Path, PathBuf};
 
 /// One triangle, with the per-vertex data shading needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,8 +50,8 @@ impl Triangle {
     pub fn centroid(&self) -> Vec3 {
         (self.p[0] + self.p[1] + self.p[2]) / 3.0
     }
-    pub fn bounds(&self) -> crate::bvh::Aabb {
-        crate::bvh::Aabb::from_points(&self.p)
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(&self.p)
     }
 }
 
@@ -76,19 +77,38 @@ pub struct Scene {
     pub stats: LoadStats,
 }
 
-/// What a loader did besides reading: dropped triangles, warnings.
+/// What a loader did besides reading: dropped triangles, warnings, the files it read.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LoadStats {
     /// Zero-area triangles dropped (they can never be hit and would break sampling by area).
     pub dropped_degenerate: usize,
     /// Warnings already printed, kept for tests and `--verbose`.
     pub warnings: Vec<String>,
+    /// Every file the loader read (scene file, meshes, material libraries, textures, sky
+    /// faces), each once, in the order first read: what a checkpoint hashes to know that a
+    /// resumed or merged run renders the same scene.
+    pub inputs: Vec<PathBuf>,
+}
+
+impl LoadStats {
+    /// Prints a warning and records it.
+    pub fn warn(&mut self, message: String) {
+        eprintln!("warning: {message}");
+        self.warnings.push(message);
+    }
+
+    /// Records that the loader read `path` (once, however often it is read).
+    pub fn read_input(&mut self, path: &Path) {
+        if !self.inputs.iter().any(|p| p == path) {
+            self.inputs.push(path.to_path_buf());
+        }
+    }
 }
 
 impl Scene {
     /// Axis-aligned bounds of all triangles.
-    pub fn bounds(&self) -> crate::bvh::Aabb {
-        let mut b = crate::bvh::Aabb::EMPTY;
+    pub fn bounds(&self) -> Aabb {
+        let mut b = Aabb::EMPTY;
         for t in &self.triangles {
             b = b.union(&t.bounds());
         }
@@ -101,4 +121,9 @@ impl Scene {
             .filter(|&i| self.materials[self.triangles[i as usize].material as usize].is_emissive())
             .collect()
     }
+}
+
+/// Boxes and centroids of triangles: the only input a BVH builder sees.
+pub fn triangle_boxes(tris: &[Triangle]) -> (Vec<Aabb>, Vec<Vec3>) {
+    tris.iter().map(|t| (t.bounds(), t.centroid())).unzip()
 }

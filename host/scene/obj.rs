@@ -12,20 +12,23 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
-use super::{Camera, Light, LoadStats, Material, Scene, Triangle};
+use super::assemble::{default_light, finish_scene, push_triangles};
+use super::{Material, Scene, Triangle};
 use crate::error::InputError;
 
 /// The triangles and materials of one OBJ file, before they join a [`Scene`].
 #[derive(Debug, Clone, Default)]
 pub struct ObjMesh {
     /// File order, faces fan-triangulated in place. Degenerate triangles are still here: they
-    /// are dropped by [`push_triangles`], after any transform a caller applies.
+    /// are dropped by [`super::assemble::push_triangles`], after any transform a caller applies.
     pub triangles: Vec<Triangle>,
     /// The MTL materials; `Triangle::material` indexes this (or is the caller's override).
     pub materials: Vec<Material>,
-    /// Warnings, not yet printed: the caller passes them to [`warn`] so that they end up in
-    /// the scene's [`LoadStats`].
+    /// Warnings, not yet printed: the caller passes them to `LoadStats::warn` so that they
+    /// end up in the scene's statistics.
     pub warnings: Vec<String>,
+    /// The files read: the OBJ, then the material libraries it loaded.
+    pub inputs: Vec<PathBuf>,
 }
 
 /// Loads a bare OBJ file as a whole scene: framing camera, and a default light unless the file
@@ -34,7 +37,10 @@ pub fn load_obj(path: &Path) -> anyhow::Result<Scene> {
     let mesh = load_obj_meshes(path, None)?;
     let mut scene = Scene { materials: mesh.materials, ..Scene::default() };
     for w in mesh.warnings {
-        warn(&mut scene.stats, w);
+        scene.stats.warn(w);
+    }
+    for p in &mesh.inputs {
+        scene.stats.read_input(p);
     }
     push_triangles(&mut scene, mesh.triangles);
     finish_scene(&mut scene, path, None)?;
@@ -63,6 +69,7 @@ pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::R
     let mtl_error: RefCell<Option<anyhow::Error>> = RefCell::new(None);
     let mtl_dirs: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
     let mtl_warnings: RefCell<Vec<String>> = RefCell::new(Vec::new());
+    let mtl_inputs: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
     let load_mtl = |rel: &Path| -> tobj::MTLLoadResult {
         let empty = Ok((Vec::new(), Default::default()));
         if material_override.is_some() {
@@ -78,6 +85,7 @@ pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::R
                 empty
             }
             Ok(Some(lib)) => {
+                mtl_inputs.borrow_mut().push(mtl_path.clone());
                 let dir = mtl_path.parent().unwrap_or(Path::new("")).to_path_buf();
                 mtl_dirs.borrow_mut().extend(std::iter::repeat(dir).take(lib.0.len()));
                 Ok(lib)
@@ -103,7 +111,9 @@ pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::R
     let (models, tobj_materials) =
         loaded.map_err(|e| InputError::new(path, None, format!("OBJ parser (tobj) failed: {e}")))?;
 
-    let mut mesh = ObjMesh { warnings: mtl_warnings.into_inner(), ..ObjMesh::default() };
+    let mut inputs = vec![path.to_path_buf()];
+    inputs.extend(mtl_inputs.into_inner());
+    let mut mesh = ObjMesh { warnings: mtl_warnings.into_inner(), inputs, ..ObjMesh::default() };
     // With a library missing, every usemtl of it would warn again; one warning says it all.
     let libraries_missing = !mesh.warnings.is_empty();
     mesh.warnings.extend(checked.warnings);
@@ -125,58 +135,6 @@ pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::R
     mesh.triangles =
         collect_triangles(path, &models, &checked.faces, material_override, &mut mesh.materials)?;
     Ok(mesh)
-}
-
-/// Adds triangles to the scene in order, dropping zero-area ones (counted in `stats`) and
-/// shading normals that cannot be normalised (zero, NaN, inf) for that triangle.
-pub fn push_triangles(scene: &mut Scene, triangles: impl IntoIterator<Item = Triangle>) {
-    for mut t in triangles {
-        let len = t.cross().length();
-        // NaN fails both tests: a triangle with a non-finite vertex is unusable too.
-        let has_area = len > 0.0 && len.is_finite();
-        if !has_area {
-            scene.stats.dropped_degenerate += 1;
-            continue;
-        }
-        if let Some(n) = t.n {
-            let n = n.map(|v| v.normalize_or_zero());
-            t.n = if n.iter().all(|v| *v != Vec3::ZERO && v.is_finite()) { Some(n) } else { None };
-        }
-        scene.triangles.push(t);
-    }
-}
-
-/// Prints a warning and records it in the scene's statistics.
-pub fn warn(stats: &mut LoadStats, message: String) {
-    eprintln!("warning: {message}");
-    stats.warnings.push(message);
-}
-
-/// What both loaders do last: refuse an empty scene, frame a camera if the file has none, and
-/// decode the materials' textures.
-pub fn finish_scene(scene: &mut Scene, file: &Path, camera: Option<Camera>) -> anyhow::Result<()> {
-    if scene.triangles.is_empty() {
-        let dropped = scene.stats.dropped_degenerate;
-        let msg = if dropped > 0 {
-            format!("the scene has no triangles (all {dropped} were degenerate)")
-        } else {
-            "the scene has no triangles".to_string()
-        };
-        return Err(InputError::new(file, None, msg).into());
-    }
-    scene.camera = camera.unwrap_or_else(|| Camera::framing(&scene.bounds()));
-    // Textures are decoded once per file, here, so that both loaders share the rule.
-    super::texture_binding::load_material_textures(scene, file, &mut super::texture::TextureCache::default())?;
-    Ok(())
-}
-
-/// The light a scene without any gets: directional, from over the camera's shoulder (up and
-/// behind the eye), so that what the camera sees is lit from the front.
-pub fn default_light(camera: &Camera) -> Light {
-    let back = (camera.eye - camera.target).normalize_or_zero();
-    let direction = (camera.up.normalize_or_zero() + back).normalize_or_zero();
-    let direction = if direction == Vec3::ZERO { Vec3::Y } else { direction };
-    Light::Directional { direction, intensity: Vec3::ONE }
 }
 
 /// Per-face facts from the sanitizing pass that tobj's output loses.

@@ -25,16 +25,6 @@ impl Sky {
         }
     }
 
-    /// (colour, first face texture or `TEXTURE_NONE`) as `GpuFrame` stores them.
-    pub fn gpu(&self) -> ([f32; 3], u32) {
-        use crate::layout::constants::TEXTURE_NONE;
-        match *self {
-            Sky::None => ([0.0; 3], TEXTURE_NONE),
-            Sky::Constant(c) => (c.to_array(), TEXTURE_NONE),
-            Sky::CubeMap { first_texture, scale } => (scale.to_array(), first_texture),
-        }
-    }
-
     /// Parses `--sky R,G,B`.
     pub fn parse_constant(s: &str) -> anyhow::Result<Sky> {
         let v: Vec<f32> = s

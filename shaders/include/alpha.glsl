@@ -1,10 +1,13 @@
-// Alpha cut-outs: traversal (traverse.glsl, test_leaf) asks alpha_passes() of each triangle
-// it hits when this file is included before it, so that closest-hit and shadow queries of
-// every BVH layout skip see-through texels. Shaders without it (trace.comp) see geometry only.
-// Only materials flagged MATERIAL_ALPHA pay for a lookup, and scenes without cut-outs compile
-// it away (HAS_ALPHA). Needs scene_bindings.glsl, features.glsl and texture.glsl.
+// Alpha cut-outs: the leaf test (leaf.glsl) asks alpha_passes() of each triangle it hits in
+// shader variants built with ALPHA_TEST (the integrators'), so that closest-hit and shadow
+// queries of every BVH layout skip see-through texels; trace.comp sees geometry only. Only
+// materials flagged MATERIAL_ALPHA pay for a lookup, and scenes without cut-outs compile it
+// away (HAS_ALPHA).
 #ifndef VKRT_ALPHA_GLSL
 #define VKRT_ALPHA_GLSL
+#include "scene_bindings.glsl"
+#include "features.glsl"
+#include "texture.glsl"
 
 // Alpha below this is see-through (the lab renderer's rule).
 const float ALPHA_CUTOFF = 0.2;

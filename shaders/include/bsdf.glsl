@@ -11,10 +11,14 @@
 // Energy: the specular lobe takes Ks and the Lambert lobe Kd * (1 - max(Ks)), so the albedo
 // never exceeds 1; GGX with Smith shadowing loses, never gains, energy.
 // Lobes the scene lacks are compiled out by the HAS_* specialization constants (features.glsl).
-// Needs sampling.glsl and layout.glsl.
 #ifndef VKRT_BSDF_GLSL
 #define VKRT_BSDF_GLSL
+#include "constants.glsl"
 #include "features.glsl"
+#include "fresnel.glsl"
+#include "gpu_abi.glsl"
+#include "math.glsl"
+#include "sampling.glsl"
 
 struct Lobes {
     vec3 kd;
@@ -94,16 +98,6 @@ vec3 sample_ggx_visible_normal(vec3 wo, float a, vec2 u) {
     p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * p2;
     vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
     return normalize(vec3(a * nh.x, a * nh.y, max(1e-6, nh.z)));
-}
-
-// Fresnel reflectance of a smooth dielectric for unpolarised light; eta = n_incident / n_transmitted.
-float fresnel_dielectric(float cos_i, float eta, out float cos_t) {
-    float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
-    if (sin2_t >= 1.0) { cos_t = 0.0; return 1.0; }
-    cos_t = sqrt(1.0 - sin2_t);
-    float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5 * (rs * rs + rp * rp);
 }
 
 struct BsdfSample {

@@ -1,4 +1,5 @@
-// The BVH arrays every tracing shader reads, and the push constants.
+// The BVH arrays every tracing shader reads, and the push constants. Each layout's node decode
+// (`load_node`) is in its traverse_<id>.glsl.
 //
 // Nodes and triangles are bound as RGBA32UI uniform texel buffers and read with texelFetch,
 // not as storage buffers, because on lavapipe that is what the loads cost (BENCHMARKS.md,
@@ -20,25 +21,9 @@
 #ifndef VKRT_BVH_BINDINGS_GLSL
 #define VKRT_BVH_BINDINGS_GLSL
 #include "constants.glsl"
-#include "layout.glsl"
+#include "gpu_abi.glsl"
 
 layout(push_constant) uniform Push { GpuPush push; };
-
-// The node type depends on the layout (see traverse.glsl): 32 bytes (2 texels), 16 bytes
-// (1 texel) for the compact layout, 128 bytes (8 texels) for the wide one.
-#if defined(LAYOUT_PARENT_LINK)
-#define BVH_NODE GpuParentNode
-#define BVH_NODE_TEXELS 2u
-#elif defined(LAYOUT_COMPACT)
-#define BVH_NODE GpuCompactNode
-#define BVH_NODE_TEXELS 1u
-#elif defined(LAYOUT_WIDE)
-#define BVH_NODE GpuWideNode
-#define BVH_NODE_TEXELS 8u
-#else
-#define BVH_NODE GpuNode
-#define BVH_NODE_TEXELS 2u
-#endif
 
 // The layout probe declares these bindings as struct arrays instead, to check their layout.
 #ifndef LAYOUT_PROBE
@@ -48,34 +33,6 @@ layout(set = 0, binding = BINDING_NODES) uniform utextureBuffer node_texels;
 layout(set = 0, binding = BINDING_TRIANGLES) uniform utextureBuffer triangle_texels;
 
 uint node_count() { return push.node_count; }
-
-#if defined(LAYOUT_COMPACT)
-BVH_NODE load_node(uint i) {
-    uvec4 a = texelFetch(node_texels, int(i));
-    return BVH_NODE(a.x, a.y, a.z, a.w);
-}
-#elif defined(LAYOUT_WIDE)
-// Eight fetches, one per 16-byte row of GpuWideNode: six rows of child bounds, the child
-// words, then parent and info.
-BVH_NODE load_node(uint i) {
-    int base = int(BVH_NODE_TEXELS * i);
-    vec4 min_x = uintBitsToFloat(texelFetch(node_texels, base));
-    vec4 min_y = uintBitsToFloat(texelFetch(node_texels, base + 1));
-    vec4 min_z = uintBitsToFloat(texelFetch(node_texels, base + 2));
-    vec4 max_x = uintBitsToFloat(texelFetch(node_texels, base + 3));
-    vec4 max_y = uintBitsToFloat(texelFetch(node_texels, base + 4));
-    vec4 max_z = uintBitsToFloat(texelFetch(node_texels, base + 5));
-    uvec4 children = texelFetch(node_texels, base + 6);
-    uvec4 link = texelFetch(node_texels, base + 7);
-    return BVH_NODE(min_x, min_y, min_z, max_x, max_y, max_z, children, link.x, link.y, 0u, 0u);
-}
-#else
-BVH_NODE load_node(uint i) {
-    uvec4 a = texelFetch(node_texels, int(BVH_NODE_TEXELS * i));
-    uvec4 b = texelFetch(node_texels, int(BVH_NODE_TEXELS * i + 1u));
-    return BVH_NODE(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
-}
-#endif
 
 GpuTriangle load_triangle(uint i) {
     uvec4 a = texelFetch(triangle_texels, int(3u * i));

@@ -1,5 +1,5 @@
-// What the scene uses, as specialization constants (ids SPEC_* in host/layout/constants.rs,
-// values from host/scene/features.rs). Each defaults to true, so a pipeline made without
+// What the scene uses, as specialization constants (ids SPEC_* in host/gpu_abi/constants.rs,
+// values from host/prepare/features.rs). Each defaults to true, so a pipeline made without
 // specialization info is the all-features shader; a false one lets the driver's compiler fold
 // the branch away, so a scene pays only for what it uses.
 #ifndef VKRT_FEATURES_GLSL

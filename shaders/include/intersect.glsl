@@ -1,9 +1,9 @@
-// Ray-box and ray-triangle tests. CPU twin: host/layout/cpu_trace.rs (same names).
+// Ray-box and ray-triangle tests. CPU twin: host/accel/intersect.rs (same names).
 #ifndef VKRT_INTERSECT_GLSL
 #define VKRT_INTERSECT_GLSL
 
 // Ize 2013, "Robust BVH ray traversal": the far slab distance times 1 + 2*gamma(3) makes the
-// float slab test conservative. Value: cpu_trace::SLAB_FAR_PAD.
+// float slab test conservative. Value: accel::intersect::SLAB_FAR_PAD.
 const float SLAB_FAR_PAD = 1.0000003576278687;
 const float FLOAT_MAX = 3.4028234663852886e38;
 
@@ -57,7 +57,7 @@ RayPre ray_pre(vec3 origin, vec3 dir, float tmin) {
 // max() must return the non-NaN operand, which lavapipe compiles to a min, an unordered
 // compare and a masked move: the slab test's 14 min/max took ~20 of the ~130 instructions of
 // a traversal step, and the path tracer ran ~5 % faster without them (BENCHMARKS.md,
-// "Per-step cost"). With a NaN operand these return b. CPU twin: cpu_trace::sel_min/max.
+// "Per-step cost"). With a NaN operand these return b. CPU twin: accel::intersect::sel_min/max.
 float sel_min(float a, float b) { return a < b ? a : b; }
 float sel_max(float a, float b) { return a > b ? a : b; }
 vec3 sel_min(vec3 a, vec3 b) { return mix(b, a, lessThan(a, b)); }

@@ -1,8 +1,12 @@
 // Light selection and next-event estimation for the path tracer: pick an emitter by power from
-// the alias table (integrator::light_table), then a point on it by area.
-// Needs scene_bindings.glsl, path_bindings.glsl, sampling.glsl.
+// the alias table (prepare::light_table), then a point on it by area.
 #ifndef VKRT_LIGHTS_GLSL
 #define VKRT_LIGHTS_GLSL
+#include "features.glsl"
+#include "math.glsl"
+#include "path_bindings.glsl"
+#include "sampling.glsl"
+#include "scene_bindings.glsl"
 
 // Entry j of the table with probability load_light_pick(j).pmf (Vose 1991). u is consumed and
 // given back rescaled to [0, 1) within the part of [0, 1) that chose j, so that the caller can

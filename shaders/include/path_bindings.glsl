@@ -1,6 +1,8 @@
 // The buffers the path tracer reads and writes besides the scene's.
 #ifndef VKRT_PATH_BINDINGS_GLSL
 #define VKRT_PATH_BINDINGS_GLSL
+#include "constants.glsl"
+#include "gpu_abi.glsl"
 
 layout(std140, set = 0, binding = BINDING_PATH_PARAMS) uniform PathParams { GpuPathParams params; };
 // rgb: radiance sum of the even-indexed samples; w: samples taken for the pixel (exact as a

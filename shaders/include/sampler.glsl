@@ -1,8 +1,9 @@
 // The path tracer's sample generators. Every value is a pure function of (pixel, sample index,
 // seed, dimension), so any tiling, batching or resumed run draws the same numbers.
-// Needs rng.glsl and the SAMPLER_* constants.
 #ifndef VKRT_SAMPLER_GLSL
 #define VKRT_SAMPLER_GLSL
+#include "constants.glsl"
+#include "rng.glsl"
 
 // Laine-Karras style hash that permutes the bits of x so that each bit depends only on the
 // bits below it: applied to a bit-reversed value, that is a nested uniform (Owen) scramble.

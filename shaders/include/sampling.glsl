@@ -2,7 +2,8 @@
 #ifndef VKRT_SAMPLING_GLSL
 #define VKRT_SAMPLING_GLSL
 
-const float PI = 3.14159265358979;
+#include "math.glsl"
+
 // The largest float below 1 (0x1.fffffep-1): where a rescaled sample must stay inside [0, 1).
 const float ONE_MINUS_EPSILON = 0.99999994;
 

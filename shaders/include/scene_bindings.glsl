@@ -4,7 +4,7 @@
 // reason (bvh_bindings.glsl; BENCHMARKS.md, "Loads on lavapipe"): lavapipe loads a storage
 // buffer at a per-lane index one lane and one dword at a time behind branches, a texel fetch
 // with one vector load per lane. The structs are RGBA32UI texels, and each load_* decodes one
-// from consecutive texels in the std430 field order of layout.glsl (float fields bit-cast,
+// from consecutive texels in the std430 field order of gpu_abi.glsl (float fields bit-cast,
 // padding read as 0). tests/layout.rs checks that order against Rust through the layout probe,
 // which declares these bindings as struct arrays; tests/texel_decode.rs runs every load_* on
 // uploaded arrays and checks each field. The texture atlas's texels are R32UI, one packed RGBA8

@@ -1,7 +1,10 @@
 // What a closest hit tells the shading code: position, normals, material.
-// Needs scene_bindings.glsl, traverse.glsl, features.glsl and texture.glsl.
 #ifndef VKRT_SURFACE_GLSL
 #define VKRT_SURFACE_GLSL
+#include "scene_bindings.glsl"
+#include "leaf.glsl"
+#include "features.glsl"
+#include "texture.glsl"
 
 struct Surface {
     vec3 p;

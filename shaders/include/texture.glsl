@@ -1,10 +1,10 @@
-// Texture lookups in the texel atlas (host/layout/texture_atlas.rs): bilinear filtering,
+// Texture lookups in the texel atlas (host/prepare/texture_atlas.rs): bilinear filtering,
 // repeat wrapping for surfaces, clamping for cube-map faces; colour texels decoded from sRGB
 // as texel^2.2 before blending (the lab renderer's decode). Row 0 of a texture is the top row
 // of its image file, and OBJ's v = 0 is the bottom of the image, hence the 1 - v.
-// Needs scene_bindings.glsl.
 #ifndef VKRT_TEXTURE_GLSL
 #define VKRT_TEXTURE_GLSL
+#include "scene_bindings.glsl"
 
 vec4 texel_at(GpuTexture tex, uint x, uint y, bool srgb) {
     vec4 c = unpackUnorm4x8(load_atlas_texel(tex.offset + y * tex.width + x));

@@ -1,9 +1,17 @@
 // Stackless walk of the compact threaded BVH: the threaded walk (traverse_threaded.glsl) over
 // 16-byte nodes whose boxes are 16-bit cells of a grid over the scene (push.grid_origin,
-// push.grid_scale). CPU twin: compact::trace (host/layout/compact.rs), which also explains the
+// push.grid_scale). CPU twin: accel::compact::trace (host/accel/compact.rs), which also explains the
 // encoding and why the decoded boxes are conservative.
 #ifndef VKRT_TRAVERSE_COMPACT_GLSL
 #define VKRT_TRAVERSE_COMPACT_GLSL
+#include "leaf.glsl"
+
+// 16 B: one texel.
+#define BVH_NODE_TEXELS 1u
+GpuCompactNode load_node(uint i) {
+    uvec4 a = texelFetch(node_texels, int(i));
+    return GpuCompactNode(a.x, a.y, a.z, a.w);
+}
 
 // Corners of cells q: a product and a sum, never fused (`precise`), exactly as
 // QuantGrid::decode computes them.

@@ -1,7 +1,8 @@
 // Multi-order threaded BVH: six threaded orders, one per dominant ray axis and sign, each
-// visiting children near-first. CPU twin: multi_order::trace (host/layout/multi_order.rs).
+// visiting children near-first. CPU twin: accel::multi_order::trace (host/accel/multi_order.rs).
 #ifndef VKRT_TRAVERSE_MULTI_ORDER_GLSL
 #define VKRT_TRAVERSE_MULTI_ORDER_GLSL
+#include "threaded_walk.glsl"
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin);

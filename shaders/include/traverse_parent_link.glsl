@@ -1,10 +1,19 @@
 // Parent-linked BVH2 walked by the stackless state machine of Hapala et al. 2011, "Efficient
-// stack-less BVH traversal for ray tracing". CPU twin: parent_link::trace
-// (host/layout/parent_link.rs), which documents the encoding. Siblings are pairs (2k, 2k+1),
+// stack-less BVH traversal for ray tracing". CPU twin: accel::parent_link::trace
+// (host/accel/parent_link.rs), which documents the encoding. Siblings are pairs (2k, 2k+1),
 // so a sibling is index ^ 1; the even child is the near one for a direction >= 0 on the
 // node's split axis.
 #ifndef VKRT_TRAVERSE_PARENT_LINK_GLSL
 #define VKRT_TRAVERSE_PARENT_LINK_GLSL
+#include "leaf.glsl"
+
+// 32 B: bmin, parent | bmax, leaf.
+#define BVH_NODE_TEXELS 2u
+GpuParentNode load_node(uint i) {
+    uvec4 a = texelFetch(node_texels, int(BVH_NODE_TEXELS * i));
+    uvec4 b = texelFetch(node_texels, int(BVH_NODE_TEXELS * i + 1u));
+    return GpuParentNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
+}
 
 const uint FROM_PARENT = 0u;
 const uint FROM_SIBLING = 1u;

@@ -1,9 +1,26 @@
 // Stackless walk of the wide (4-ary) BVH: each visit tests a node's four child boxes at once;
 // going back up re-enters the parent, restricted to the slots after the one the walk came
-// from. CPU twin: wide::trace (host/layout/wide.rs), which documents the collapse, the slot
+// from. CPU twin: accel::wide::trace (host/accel/wide.rs), which documents the collapse, the slot
 // order and the encoding.
 #ifndef VKRT_TRAVERSE_WIDE_GLSL
 #define VKRT_TRAVERSE_WIDE_GLSL
+#include "leaf.glsl"
+
+// Eight fetches, one per 16-byte row of GpuWideNode: six rows of child bounds, the child
+// words, then parent and info.
+#define BVH_NODE_TEXELS 8u
+GpuWideNode load_node(uint i) {
+    int base = int(BVH_NODE_TEXELS * i);
+    vec4 min_x = uintBitsToFloat(texelFetch(node_texels, base));
+    vec4 min_y = uintBitsToFloat(texelFetch(node_texels, base + 1));
+    vec4 min_z = uintBitsToFloat(texelFetch(node_texels, base + 2));
+    vec4 max_x = uintBitsToFloat(texelFetch(node_texels, base + 3));
+    vec4 max_y = uintBitsToFloat(texelFetch(node_texels, base + 4));
+    vec4 max_z = uintBitsToFloat(texelFetch(node_texels, base + 5));
+    uvec4 children = texelFetch(node_texels, base + 6);
+    uvec4 link = texelFetch(node_texels, base + 7);
+    return GpuWideNode(min_x, min_y, min_z, max_x, max_y, max_z, children, link.x, link.y, 0u, 0u);
+}
 
 // Which of the four slots the ray enters within [tmin, tmax], with their entry distances:
 // intersect_box for each slot, component for component, so the CPU twin's per-slot calls

@@ -9,7 +9,7 @@
 #extension GL_EXT_samplerless_texture_functions : require
 
 #include "constants.glsl"
-#include "layout.glsl"
+#include "gpu_abi.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"
 #include "bsdf.glsl"

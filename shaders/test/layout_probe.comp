@@ -1,11 +1,14 @@
 #version 460
 // Declares every GPU struct and binding so tests/layout.rs can read their offsets, sizes,
-// strides and binding numbers from one SPIR-V module. Never dispatched.
+// strides and binding numbers from one SPIR-V module. Never dispatched. Built once per BVH
+// layout (host/pipeline/variants.rs), with that layout's node struct at BINDING_NODES
+// (BVH_NODE, from the generated bvh_node.glsl).
 #extension GL_GOOGLE_include_directive : require
 // The BVH, scene and light-pick bindings are texel buffers in the real shaders; here they are
 // struct arrays.
 #define LAYOUT_PROBE
 
+#include "bvh_node.glsl"
 #include "scene_bindings.glsl"
 #include "path_bindings.glsl"
 
@@ -31,14 +34,7 @@ layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer Hits { GpuHit h
 
 void main() {
     // Touch every binding so the compiler keeps it.
-#if defined(LAYOUT_COMPACT)
-    float node_value = float(nodes[0].link);
-#elif defined(LAYOUT_WIDE)
-    float node_value = nodes[0].min_x.x;
-#else
-    float node_value = nodes[0].bmin.x;
-#endif
-    float s = node_value + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
+    float s = float(nodes.length()) + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
             + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
             + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x);

@@ -6,7 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 
 #include "constants.glsl"
-#include "layout.glsl"
+#include "gpu_abi.glsl"
 #include "rng.glsl"
 #include "sampler.glsl"
 

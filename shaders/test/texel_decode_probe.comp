@@ -1,15 +1,18 @@
 #version 460
-// Runs every texel-buffer decoder of the integrators (load_node, load_triangle in
-// bvh_bindings.glsl; load_shading ... load_uv in scene_bindings.glsl; load_light_pick in
-// path_bindings.glsl) and writes each decoded struct to a std430 array of that struct, so
+// Runs every texel-buffer decoder of the integrators (load_node in the layout's
+// traverse_<id>.glsl; load_triangle in bvh_bindings.glsl; load_shading ... load_uv in
+// scene_bindings.glsl; load_light_pick in path_bindings.glsl) and writes each decoded struct to a std430 array of that struct, so
 // tests/texel_decode.rs can check that the shaders read back, field for field, what the host
 // uploaded. Invocation i decodes element i of every array that has one. The node decoder is
-// the layout's (a LAYOUT_* define picks it, as in the integrators' variants).
+// the layout's (a LAYOUT_* define picks it, as in the integrators' variants; BVH_NODE names its
+// struct, from the generated bvh_node.glsl).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 
+#include "bvh_node.glsl"
 #include "scene_bindings.glsl"
 #include "path_bindings.glsl"
+#include "traverse.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE_1D) in;
 

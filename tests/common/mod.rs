@@ -1,7 +1,11 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests, and the test scenes they generate.
 #![allow(dead_code)]
 
+pub mod closed_meshes;
+pub mod procedural;
+
 use vkrt::gpu::{Context, ContextOptions, Validation};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 
 /// A Vulkan context for tests: the device from `VKRT_DEVICE` (default: the best one, lavapipe on
 /// CI), with the validation layers on whenever they are installed.
@@ -27,6 +31,36 @@ pub fn shared_path(rel: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared").join(rel)
 }
 
+/// `rel` in the shared data folder, or None, with the reason printed, when the folder is not
+/// there (a bare clone): tests that need `../shared` skip themselves then, by name, and run
+/// everywhere the data is (CI has it).
+pub fn shared_or_skip(test: &str, rel: &str) -> Option<std::path::PathBuf> {
+    let path = shared_path(rel);
+    if path.exists() {
+        return Some(path);
+    }
+    eprintln!("SKIPPED {test}: needs {} (the shared test data beside the repository), which is absent", path.display());
+    None
+}
+
+/// The SPIR-V of a test probe (host/pipeline/variants.rs, role Probe): built by host/build.rs
+/// into `$OUT_DIR/probes/`, never embedded in the library.
+pub fn probe_spirv(name: &str) -> Vec<u8> {
+    let path = std::path::Path::new(env!("OUT_DIR")).join("probes").join(format!("{name}.spv"));
+    std::fs::read(&path).unwrap_or_else(|e| panic!("probe {}: {e}", path.display()))
+}
+
+/// Builds the default BVH (binned SAH, threaded), prepares and uploads `scene`.
+pub fn upload<'a>(ctx: &'a Context, scene: &vkrt::scene::Scene) -> GpuScene<'a> {
+    upload_with(ctx, scene, &PrepareOptions::default())
+}
+
+/// The same with other build and layout options.
+pub fn upload_with<'a>(ctx: &'a Context, scene: &vkrt::scene::Scene, options: &PrepareOptions) -> GpuScene<'a> {
+    let prepared = PreparedScene::new(scene, options).expect("prepare the scene");
+    GpuScene::upload(ctx, &prepared).expect("upload the scene")
+}
+
 /// A scratch folder under target/ for files a test writes (kept for inspection on failure).
 pub fn scratch_dir(name: &str) -> std::path::PathBuf {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output").join(name);
@@ -43,13 +77,10 @@ pub use vkrt::rng::Pcg32 as Pcg;
 pub fn render_path(
     scene: &vkrt::scene::Scene,
     settings: &vkrt::integrator::path::PathSettings,
-) -> vkrt::integrator::accumulation::Accumulation {
-    use vkrt::integrator::gpu_scene::{GpuScene, PreparedScene};
+) -> vkrt::integrator::path::Accumulation {
     let ctx = gpu_context();
-    let prepared = PreparedScene::new(scene, vkrt::bvh::BuilderKind::Sah, &vkrt::bvh::BuildConfig::default()).unwrap();
-    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
-    let (acc, stats) =
-        vkrt::integrator::path::render(&ctx, scene, &gpu, settings, None, &mut Default::default()).unwrap();
+    let gpu = upload(&ctx, scene);
+    let (acc, stats) = vkrt::integrator::path::render(&ctx, &gpu, settings, None, &mut Default::default()).unwrap();
     assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples");
     assert_no_validation_messages(&ctx);
     acc

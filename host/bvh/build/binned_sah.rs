@@ -37,59 +37,21 @@
 
 use std::borrow::Cow;
 
+use crate::geom::{Aabb, SimdAabb};
 use glam::{Vec3, Vec3A};
 
-use crate::bvh::{Aabb, BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
+use crate::bvh::{BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
 
 /// Fewer than 2 bins has no plane between bins; more than this buys nothing measurable and only
 /// grows the per-node scratch that must be cleared and swept.
 const MAX_BINS: u32 = 256;
-
-/// A box in 16-byte lanes (`Vec3A` is SSE/NEON-backed), so a union is two SIMD min/max ops: the
-/// binning loop, the hottest in the build, does three per primitive per level.
-#[derive(Clone, Copy)]
-struct Box3 {
-    min: Vec3A,
-    max: Vec3A,
-}
-
-impl Box3 {
-    const EMPTY: Box3 = Box3 {
-        min: Vec3A::INFINITY,
-        max: Vec3A::NEG_INFINITY,
-    };
-
-    fn union(self, o: Box3) -> Box3 {
-        Box3 {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
-        }
-    }
-    fn grow(self, p: Vec3A) -> Box3 {
-        Box3 {
-            min: self.min.min(p),
-            max: self.max.max(p),
-        }
-    }
-    /// Surface area; 0 for the empty box (its negative extent is clamped away).
-    fn area(self) -> f32 {
-        let e = (self.max - self.min).max(Vec3A::ZERO);
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-    }
-    fn aabb(self) -> Aabb {
-        Aabb {
-            min: self.min.into(),
-            max: self.max.into(),
-        }
-    }
-}
 
 /// A primitive's box, centroid and id in one record (the layout of Embree's `PrimRef`).
 /// Partitioning moves the records themselves, not indices into `boxes`, so every pass over a node
 /// reads memory sequentially instead of gathering from all over the input.
 #[derive(Clone, Copy)]
 struct PrimRef {
-    bounds: Box3,
+    bounds: SimdAabb,
     centroid: Vec3,
     id: u32,
 }
@@ -101,18 +63,18 @@ struct Task {
     node: u32,
     begin: usize,
     end: usize,
-    centroid_bounds: Box3,
+    centroid_bounds: SimdAabb,
 }
 
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Box3,
+    bounds: SimdAabb,
     count: u32,
 }
 
 impl Bin {
     const EMPTY: Bin = Bin {
-        bounds: Box3::EMPTY,
+        bounds: SimdAabb::EMPTY,
         count: 0,
     };
 
@@ -147,7 +109,7 @@ const ROUND_MAGIC: f32 = 8_388_607.5;
 const ROUND_MAGIC_BITS: u32 = 0x4B00_0000;
 
 impl Binning {
-    fn new(centroid_bounds: &Box3, bins: usize) -> Self {
+    fn new(centroid_bounds: &SimdAabb, bins: usize) -> Self {
         let extent = centroid_bounds.max - centroid_bounds.min;
         let scale = Vec3A::splat(bins as f32) / extent;
         let usable = [0, 1, 2].map(|a| extent[a] > 0.0 && scale[a].is_finite());
@@ -197,8 +159,8 @@ struct Split {
     weighted_area: f32,
     /// |N_L - N_R|, the tie-breaker.
     imbalance: u32,
-    left: Box3,
-    right: Box3,
+    left: SimdAabb,
+    right: SimdAabb,
 }
 
 /// Scratch reused across nodes so the build allocates only its output.
@@ -235,10 +197,10 @@ enum Plan {
 /// A node's two halves: `refs[..mid]` and `refs[mid..]` with their boxes and centroid bounds.
 struct Children {
     mid: usize,
-    left: Box3,
-    left_centroids: Box3,
-    right: Box3,
-    right_centroids: Box3,
+    left: SimdAabb,
+    left_centroids: SimdAabb,
+    right: SimdAabb,
+    right_centroids: SimdAabb,
 }
 
 /// Per-build settings and the scratch reused across nodes, so the build allocates only its
@@ -269,7 +231,7 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     let (root_bounds, root_centroids) = range_bounds(&refs);
     let mut nodes = Vec::with_capacity(2 * n.div_ceil(builder.leaf_size));
     nodes.push(Node {
-        bounds: root_bounds.aabb(),
+        bounds: Aabb::from(root_bounds),
         kind: NodeKind::Leaf { first: 0, count: 0 },
     });
 
@@ -295,11 +257,11 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
                 let left = nodes.len() as u32;
                 let placeholder = NodeKind::Leaf { first: 0, count: 0 };
                 nodes.push(Node {
-                    bounds: c.left.aabb(),
+                    bounds: Aabb::from(c.left),
                     kind: placeholder,
                 });
                 nodes.push(Node {
-                    bounds: c.right.aabb(),
+                    bounds: Aabb::from(c.right),
                     kind: placeholder,
                 });
                 let mid = task.begin + c.mid;
@@ -336,10 +298,7 @@ fn prim_refs(boxes: &[Aabb], centroids: &[Vec3]) -> Vec<PrimRef> {
         .zip(centroids)
         .zip(0u32..)
         .map(|((b, &centroid), id)| PrimRef {
-            bounds: Box3 {
-                min: b.min.into(),
-                max: b.max.into(),
-            },
+            bounds: SimdAabb::from(*b),
             centroid,
             id,
         })
@@ -364,7 +323,7 @@ impl Builder {
 
     /// Split `refs` (reordering them) if the SAH says so or the node is too big for a leaf;
     /// `None` for a leaf.
-    fn split(&mut self, refs: &mut [PrimRef], centroid_bounds: &Box3, area: f32) -> Option<Children> {
+    fn split(&mut self, refs: &mut [PrimRef], centroid_bounds: &SimdAabb, area: f32) -> Option<Children> {
         let count = refs.len();
         // One primitive is always a leaf (leaf_size is at least 1).
         if count <= 1 {
@@ -395,7 +354,7 @@ impl Builder {
         })
     }
 
-    fn plan(&mut self, refs: &[PrimRef], centroid_bounds: &Box3) -> Plan {
+    fn plan(&mut self, refs: &[PrimRef], centroid_bounds: &SimdAabb) -> Plan {
         if refs.len() <= TINY_NODE {
             return match best_subset(refs) {
                 Some((mask, weighted_area)) => Plan::Subset {
@@ -452,7 +411,7 @@ fn best_subset(refs: &[PrimRef]) -> Option<(u32, f32)> {
     let n = refs.len().min(TINY_NODE);
     let mut best: Option<(f32, u32, u32)> = None;
     for mask in 1..(1u32 << n.saturating_sub(1)) {
-        let (mut left, mut right) = (Box3::EMPTY, Box3::EMPTY);
+        let (mut left, mut right) = (SimdAabb::EMPTY, SimdAabb::EMPTY);
         for (i, r) in refs[..n].iter().enumerate() {
             if mask >> i & 1 == 1 {
                 left = left.union(r.bounds);
@@ -585,13 +544,13 @@ fn partition(
     binning: &Binning,
     axis: usize,
     split_bin: u32,
-) -> (usize, Box3, Box3) {
+) -> (usize, SimdAabb, SimdAabb) {
     let split_bin = split_bin as usize;
     let goes_left = |r: &PrimRef| binning.bin(r.centroid[axis], axis) < split_bin;
     // Hoare's scheme: scan in from both ends and swap only pairs that are both on the wrong
     // side, so each record moves at most once.
     let (mut i, mut j) = (0, refs.len());
-    let (mut lc, mut rc) = (Box3::EMPTY, Box3::EMPTY);
+    let (mut lc, mut rc) = (SimdAabb::EMPTY, SimdAabb::EMPTY);
     loop {
         while i < j && goes_left(&refs[i]) {
             lc = lc.grow(refs[i].centroid.into());
@@ -625,8 +584,8 @@ fn matched_centroids<'a>(boxes: &[Aabb], centroids: &'a [Vec3], n: usize) -> Cow
 }
 
 /// Bounds of the primitives' boxes and of their centroids, in one pass.
-fn range_bounds(refs: &[PrimRef]) -> (Box3, Box3) {
-    refs.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, c), r| {
+fn range_bounds(refs: &[PrimRef]) -> (SimdAabb, SimdAabb) {
+    refs.iter().fold((SimdAabb::EMPTY, SimdAabb::EMPTY), |(b, c), r| {
         (b.union(r.bounds), c.grow(r.centroid.into()))
     })
 }
@@ -639,7 +598,7 @@ mod tests {
     /// or child boxes taken from the bins would miss primitives.
     #[test]
     fn scalar_and_simd_bins_agree() {
-        let bounds = Box3 {
+        let bounds = SimdAabb {
             min: Vec3A::new(-1.0, 0.0, 3.0),
             max: Vec3A::new(2.0, 1e-30, 3.0),
         };

@@ -14,7 +14,8 @@ use std::borrow::Cow;
 
 use glam::Vec3;
 
-use crate::bvh::{Aabb, BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
+use crate::bvh::{BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
+use crate::geom::Aabb;
 
 /// One node still to be built: `nodes[node]` will cover `prim_indices[begin..end]`.
 struct Task {

@@ -21,7 +21,8 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use crate::bvh::{Aabb, BuildConfig, Bvh, Node, NodeKind};
+use crate::bvh::{BuildConfig, Bvh, Node, NodeKind};
+use crate::geom::Aabb;
 
 /// Upper bound on candidate batches (each reinserts 1% of the nodes).
 const MAX_BATCHES: usize = 40;

@@ -16,31 +16,10 @@
 
 use std::borrow::Cow;
 
-use glam::{Vec3, Vec3A};
+use crate::geom::{Aabb, SimdAabb};
+use glam::Vec3;
 
-use crate::bvh::{Aabb, BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
-
-/// A box in 16-byte SIMD lanes (see binned_sah.rs): the sweeps are unions and areas only.
-#[derive(Clone, Copy)]
-struct Box3 {
-    min: Vec3A,
-    max: Vec3A,
-}
-
-impl Box3 {
-    const EMPTY: Box3 = Box3 { min: Vec3A::INFINITY, max: Vec3A::NEG_INFINITY };
-
-    fn union(self, o: Box3) -> Box3 {
-        Box3 { min: self.min.min(o.min), max: self.max.max(o.max) }
-    }
-    fn area(self) -> f32 {
-        let e = (self.max - self.min).max(Vec3A::ZERO);
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-    }
-    fn aabb(self) -> Aabb {
-        Aabb { min: self.min.into(), max: self.max.into() }
-    }
-}
+use crate::bvh::{BuildConfig, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
 
 /// One node still to be built: it covers positions `begin..end` of all three sorted lists.
 struct Task {
@@ -57,8 +36,8 @@ struct Split {
     /// A_L * N_L + A_R * N_R.
     weighted_area: f32,
     imbalance: usize,
-    left: Box3,
-    right: Box3,
+    left: SimdAabb,
+    right: SimdAabb,
 }
 
 /// Build a BVH with the full-sweep SAH. Centroids as in the other builders (box centres if the
@@ -73,7 +52,7 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
         Some(c) if centroids.len() == boxes.len() => Cow::Borrowed(c),
         _ => Cow::Owned(boxes.iter().take(n).map(Aabb::center).collect()),
     };
-    let boxes: Vec<Box3> = boxes[..n].iter().map(|b| Box3 { min: b.min.into(), max: b.max.into() }).collect();
+    let boxes: Vec<SimdAabb> = boxes[..n].iter().map(|&b| SimdAabb::from(b)).collect();
     let leaf_size = config.max_leaf_size.clamp(1, MAX_LEAF_SIZE) as usize;
 
     // One list per axis, sorted by centroid (ties by id, so the build is deterministic; NaN-free
@@ -90,10 +69,10 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     let mut goes_left = vec![false; n];
     let mut scratch = vec![0u32; n];
 
-    let root_bounds = boxes.iter().fold(Box3::EMPTY, |b, &o| b.union(o));
+    let root_bounds = boxes.iter().fold(SimdAabb::EMPTY, |b, &o| b.union(o));
     let placeholder = NodeKind::Leaf { first: 0, count: 0 };
     let mut nodes = Vec::with_capacity(2 * n.div_ceil(leaf_size));
-    nodes.push(Node { bounds: root_bounds.aabb(), kind: placeholder });
+    nodes.push(Node { bounds: Aabb::from(root_bounds), kind: placeholder });
     // Explicit stack: SAH trees can be deep (see binned_sah.rs).
     let mut stack = vec![Task { node: 0, begin: 0, end: n }];
     while let Some(Task { node, begin, end }) = stack.pop() {
@@ -125,8 +104,8 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
             stable_partition(&mut sorted[axis][begin..end], &goes_left, &mut scratch);
         }
         let left = nodes.len() as u32;
-        nodes.push(Node { bounds: split.left.aabb(), kind: placeholder });
-        nodes.push(Node { bounds: split.right.aabb(), kind: placeholder });
+        nodes.push(Node { bounds: Aabb::from(split.left), kind: placeholder });
+        nodes.push(Node { bounds: Aabb::from(split.right), kind: placeholder });
         stack.push(Task { node: left + 1, begin: mid, end });
         stack.push(Task { node: left, begin, end: mid });
         nodes[node as usize].kind = NodeKind::Interior { left, right: left + 1 };
@@ -137,18 +116,18 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
 }
 
 /// Score every split of positions `begin..end` on every axis; `None` only for one primitive.
-fn best_split(sorted: &[Vec<u32>; 3], begin: usize, end: usize, boxes: &[Box3], suffix: &mut [f32]) -> Option<Split> {
+fn best_split(sorted: &[Vec<u32>; 3], begin: usize, end: usize, boxes: &[SimdAabb], suffix: &mut [f32]) -> Option<Split> {
     let count = end - begin;
     let mut best: Option<Split> = None;
     for (axis, list) in sorted.iter().enumerate() {
         let list = &list[begin..end];
         // suffix[i] = area of the union of list[i..].
-        let mut acc = Box3::EMPTY;
+        let mut acc = SimdAabb::EMPTY;
         for i in (1..count).rev() {
             acc = acc.union(boxes[list[i] as usize]);
             suffix[i] = acc.area();
         }
-        let mut left = Box3::EMPTY;
+        let mut left = SimdAabb::EMPTY;
         for i in 1..count {
             left = left.union(boxes[list[i - 1] as usize]);
             let weighted_area = left.area() * i as f32 + suffix[i] * (count - i) as f32;
@@ -158,14 +137,14 @@ fn best_split(sorted: &[Vec<u32>; 3], begin: usize, end: usize, boxes: &[Box3], 
             if best.as_ref().map_or(true, |b| {
                 weighted_area < b.weighted_area || (weighted_area == b.weighted_area && imbalance < b.imbalance)
             }) {
-                best = Some(Split { axis, count: i, weighted_area, imbalance, left, right: Box3::EMPTY });
+                best = Some(Split { axis, count: i, weighted_area, imbalance, left, right: SimdAabb::EMPTY });
             }
         }
     }
     // The right box was not kept during the sweeps (only its area); rebuild it once.
     if let Some(b) = best.as_mut() {
         let list = &sorted[b.axis][begin..end];
-        b.right = list[b.count..].iter().fold(Box3::EMPTY, |acc, &p| acc.union(boxes[p as usize]));
+        b.right = list[b.count..].iter().fold(SimdAabb::EMPTY, |acc, &p| acc.union(boxes[p as usize]));
     }
     best
 }

@@ -1,0 +1,113 @@
+//! Stackless BVH layouts: a built [`crate::bvh::Bvh`] laid out as the flat arrays a shader walks
+//! without a stack, each with a CPU twin that walks the same arrays with the same arithmetic.
+//!
+//! One file per layout ([`kinds::LAYOUTS`] lists them): its flatten step, its [`NodeArray`]
+//! (the nodes ready to upload, and the CPU twin of its shader's `traverse`), and the name of its
+//! GLSL walk (`shaders/include/traverse_<id>.glsl`). [`intersect`] and [`leaf`] are the parts
+//! every walk shares. The node structs themselves are GPU formats and live in `crate::gpu_abi`.
+
+pub mod compact;
+pub mod intersect;
+pub mod kinds;
+pub mod leaf;
+pub mod multi_order;
+pub mod parent_link;
+pub mod threaded;
+pub mod wide;
+
+pub use kinds::{LayoutInfo, LayoutKind, LAYOUTS};
+
+use crate::bvh::{Bvh, MAX_LEAF_SIZE};
+use crate::gpu_abi::constants::LEAF_COUNT_BITS;
+use crate::gpu_abi::{GpuHit, GpuPush, GpuRay, GpuTriangle};
+use crate::scene::Triangle;
+use anyhow::Context as _;
+
+// Every layout packs a leaf's triangle count into LEAF_COUNT_BITS bits.
+const _: () = assert!(MAX_LEAF_SIZE < (1 << LEAF_COUNT_BITS), "a BVH leaf holds more triangles than the flat layouts can count");
+
+/// A layout's node array: what is uploaded, and the CPU twin of the shader that walks it.
+pub trait NodeArray: std::fmt::Debug + Send + Sync {
+    fn kind(&self) -> LayoutKind;
+    /// The node array as uploaded to the GPU (`BINDING_NODES`).
+    fn bytes(&self) -> &[u8];
+    /// Entries in the node array (for the multi-order layout, all six orders).
+    fn len(&self) -> usize;
+    /// The CPU twin of this layout's `traverse`: same hit, same counters.
+    fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit;
+    /// Writes what this layout's shader reads from the push constants besides the node count
+    /// (the compact layout's grid); most layouts need nothing.
+    fn fill_push(&self, _push: &mut GpuPush) {}
+}
+
+/// The flat arrays of one layout: nodes, and the triangles reordered so that each leaf's
+/// triangles are contiguous (shared by every layout).
+#[derive(Debug)]
+pub struct FlatBvh {
+    pub nodes: Box<dyn NodeArray>,
+    pub triangles: Vec<GpuTriangle>,
+}
+
+impl FlatBvh {
+    pub fn layout(&self) -> LayoutKind {
+        self.nodes.kind()
+    }
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+    /// Bytes the node and triangle arrays occupy on the GPU.
+    pub fn bytes(&self) -> usize {
+        self.nodes.bytes().len() + std::mem::size_of_val(self.triangles.as_slice())
+    }
+    /// The CPU twin of this layout's shader: same hit, same counters.
+    pub fn trace(&self, ray: &GpuRay, any_hit: bool) -> GpuHit {
+        self.nodes.trace(&self.triangles, ray, any_hit)
+    }
+    /// The push constants that describe these arrays (node count, layout data); each dispatch
+    /// fills in the rest.
+    pub fn push(&self) -> GpuPush {
+        let mut push = GpuPush { node_count: self.node_count() as u32, ..bytemuck::Zeroable::zeroed() };
+        self.nodes.fill_push(&mut push);
+        push
+    }
+}
+
+/// The largest triangle count the leaf encoding can address.
+pub const MAX_FLAT_TRIANGLES: usize = 1 << (32 - LEAF_COUNT_BITS);
+
+/// Lays `bvh` (built over `tris`) out as `layout`.
+pub fn flatten(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind) -> anyhow::Result<FlatBvh> {
+    let triangles = leaf_order_triangles(bvh, tris)?;
+    let nodes: Box<dyn NodeArray> = match layout {
+        LayoutKind::Threaded => Box::new(threaded::Threaded(threaded::flatten(bvh))),
+        LayoutKind::MultiOrder => Box::new(multi_order::MultiOrder(multi_order::flatten(bvh))),
+        LayoutKind::ParentLink => Box::new(parent_link::ParentLink(parent_link::flatten(bvh)?)),
+        LayoutKind::Compact => Box::new(compact::Compact::from_threaded(&threaded::flatten(bvh))?),
+        LayoutKind::Wide => Box::new(wide::Wide(wide::flatten(bvh)?)),
+    };
+    debug_assert_eq!(nodes.kind(), layout);
+    Ok(FlatBvh { nodes, triangles })
+}
+
+/// The triangles in `prim_indices` order, so a leaf's `first..first + count` indexes them.
+fn leaf_order_triangles(bvh: &Bvh, tris: &[Triangle]) -> anyhow::Result<Vec<GpuTriangle>> {
+    if tris.len() > MAX_FLAT_TRIANGLES {
+        anyhow::bail!("scene has {} triangles; the flat layouts address at most {MAX_FLAT_TRIANGLES}", tris.len());
+    }
+    bvh.prim_indices
+        .iter()
+        .map(|&prim| {
+            let t = tris.get(prim as usize).with_context(|| format!("BVH names primitive {prim} of {} triangles", tris.len()))?;
+            Ok(GpuTriangle { v0: t.p[0].to_array(), prim, v1: t.p[1].to_array(), _pad0: 0, v2: t.p[2].to_array(), _pad1: 0 })
+        })
+        .collect()
+}
+
+impl clap::ValueEnum for LayoutKind {
+    fn value_variants<'a>() -> &'a [Self] {
+        &LayoutKind::ALL
+    }
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(clap::builder::PossibleValue::new(self.name()).help(self.info().help))
+    }
+}

@@ -1,0 +1,281 @@
+//! `vkrt bvh`: every builder x layout on each scene: build time, nodes, bytes, SAH cost, and for
+//! primary, shadow and diffuse-bounce rays the measured nodes visited and triangles tested per
+//! ray (the GPU's counters) and rays/s on the GPU. `--heatmap` draws nodes visited per pixel.
+
+use crate::accel::{self, LayoutKind};
+use crate::bvh::{self, stats::stats, validate::validate, BuildConfig, BuilderKind};
+use crate::gpu::Context;
+use crate::gpu_abi::{GpuHit, GpuRay};
+use crate::output::heatmap;
+use crate::prepare::GpuBvh;
+use crate::query::{rays, RayQuery};
+use crate::scene::{triangle_boxes, Scene};
+use anyhow::{anyhow, Context as _, Result};
+use clap::{Args, ValueEnum};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Timed runs per ray set; the fastest counts.
+const TIMED_RUNS: usize = 3;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// A Markdown table.
+    Table,
+    Csv,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct BvhArgs {
+    /// Scene files (.obj or lab .yaml).
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Primary rays: one per pixel of a WIDTH x HEIGHT camera image (also the heat map's size).
+    #[arg(long, default_value_t = 384)]
+    pub width: u32,
+    #[arg(long, default_value_t = 384)]
+    pub height: u32,
+    /// Builds timed per builder; the best is reported (single-threaded).
+    #[arg(long, default_value_t = 3)]
+    pub repeat: u32,
+    /// Write nodes visited per pixel of the primary rays as a PNG heat map with a legend; with
+    /// several scenes, one file each, named OUT-SCENE.png.
+    #[arg(long)]
+    pub heatmap: Option<PathBuf>,
+    /// Builder and layout the heat map shows.
+    #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
+    pub heatmap_builder: BuilderKind,
+    #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
+    pub heatmap_layout: LayoutKind,
+    /// Only these builders (default: all).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub builders: Vec<BuilderKind>,
+    /// Only these layouts (default: all).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub layouts: Vec<LayoutKind>,
+    #[command(flatten)]
+    pub device: super::DeviceArgs,
+}
+
+/// Per-ray counters and throughput of one ray set.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RayStats {
+    pub nodes_per_ray: f64,
+    pub tris_per_ray: f64,
+    pub rays_per_second: f64,
+}
+
+/// One line of the table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub scene: String,
+    pub triangles: usize,
+    pub builder: BuilderKind,
+    pub layout: LayoutKind,
+    pub build_ms: f64,
+    /// Nodes of the tree (each layout stores them its own way; `bytes` says at what cost).
+    pub nodes: usize,
+    /// GPU bytes of nodes + triangles in this layout.
+    pub bytes: usize,
+    pub sah: f32,
+    pub primary: RayStats,
+    pub shadow: RayStats,
+    pub diffuse: RayStats,
+}
+
+/// Time and count one ray set (upload, traversal, read-back): the best of `TIMED_RUNS`, since
+/// the machine may be shared and a short run is easily disturbed.
+fn measure(query: &RayQuery, rays: &[GpuRay], any_hit: bool) -> Result<(RayStats, Vec<GpuHit>)> {
+    let mut seconds = f64::INFINITY;
+    let mut hits = Vec::new();
+    for _ in 0..TIMED_RUNS {
+        let t = Instant::now();
+        hits = query.trace(rays, any_hit)?;
+        seconds = seconds.min(t.elapsed().as_secs_f64());
+    }
+    let n = rays.len().max(1) as f64;
+    Ok((
+        RayStats {
+            nodes_per_ray: hits.iter().map(|h| f64::from(h.nodes_visited)).sum::<f64>() / n,
+            tris_per_ray: hits.iter().map(|h| f64::from(h.tris_tested)).sum::<f64>() / n,
+            rays_per_second: rays.len() as f64 / seconds.max(1e-9),
+        },
+        hits,
+    ))
+}
+
+/// Every requested builder x layout on one scene.
+pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> Result<Vec<Row>> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let builders = if args.builders.is_empty() { BuilderKind::ALL.to_vec() } else { args.builders.clone() };
+    let layouts = if args.layouts.is_empty() { LayoutKind::ALL.to_vec() } else { args.layouts.clone() };
+    let (boxes, centroids) = triangle_boxes(&scene.triangles);
+    let config = BuildConfig::default();
+
+    // The ray sets, shared by every builder x layout: primary rays, and shadow and bounce rays
+    // from their hits (found with the CPU twin of a binned-SAH threaded tree).
+    let primary = rays::primary(scene, args.width, args.height)?;
+    let reference = accel::flatten(&bvh::build(BuilderKind::Sah, &boxes, &centroids, &config), &scene.triangles, LayoutKind::Threaded)?;
+    let primary_hits: Vec<GpuHit> = primary.iter().map(|r| reference.trace(r, false)).collect();
+    let (shadow, diffuse) = rays::secondary(scene, &primary, &primary_hits, 1);
+
+    let mut rows = Vec::new();
+    for &builder in &builders {
+        let mut build_ms = f64::INFINITY;
+        let mut tree = bvh::Bvh::default();
+        for _ in 0..args.repeat.max(1) {
+            let t = Instant::now();
+            tree = bvh::build(builder, &boxes, &centroids, &config);
+            build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
+        }
+        validate(&tree, &boxes).map_err(|e| anyhow!("{builder:?} tree of {name} is invalid: {e}"))?;
+        let s = stats(&tree);
+        for &layout in &layouts {
+            let flat = accel::flatten(&tree, &scene.triangles, layout)?;
+            let gpu = GpuBvh::upload(ctx, &flat)?;
+            let query = RayQuery::new(ctx, &gpu)?;
+            // One untimed warm-up batch: the first dispatch pays one-off driver costs.
+            query.trace(&primary[..primary.len().min(1024)], false)?;
+            let (p, hits) = measure(&query, &primary, false)?;
+            let (sh, _) = measure(&query, &shadow, true)?;
+            let (d, _) = measure(&query, &diffuse, false)?;
+            if let Some(out) = &args.heatmap {
+                if builder == args.heatmap_builder && layout == args.heatmap_layout {
+                    let out = heatmap_path(out, path, args.scenes.len() > 1);
+                    let counts: Vec<u32> = hits.iter().map(|h| h.nodes_visited).collect();
+                    heatmap::write(&out, &counts, args.width, args.height)?;
+                    eprintln!("heat map of nodes visited ({builder:?} / {}): {}", layout.name(), out.display());
+                }
+            }
+            rows.push(Row {
+                scene: name.clone(),
+                triangles: scene.triangles.len(),
+                builder,
+                layout,
+                build_ms,
+                nodes: s.nodes,
+                bytes: flat.bytes(),
+                sah: s.sah_cost,
+                primary: p,
+                shadow: sh,
+                diffuse: d,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+fn heatmap_path(out: &Path, scene: &Path, per_scene: bool) -> PathBuf {
+    if !per_scene {
+        return out.to_path_buf();
+    }
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let scene_stem = scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    out.with_file_name(format!("{stem}-{scene_stem}.png"))
+}
+
+pub fn run(args: &BvhArgs) -> Result<()> {
+    if args.width == 0 || args.height == 0 {
+        anyhow::bail!("--width and --height must be positive");
+    }
+    let ctx = args.device.context()?;
+    let mut rows = Vec::new();
+    for path in &args.scenes {
+        let scene = crate::scene::load_scene(path)?;
+        rows.extend(scene_rows(&ctx, path, &scene, args).with_context(|| format!("comparing BVHs on {}", path.display()))?);
+    }
+    ctx.check_validation().context("Vulkan validation")?;
+    print!("{}", format_rows(&rows, args.format, &ctx.info.name));
+    Ok(())
+}
+
+const COLUMNS: [&str; 17] = [
+    "scene", "triangles", "builder", "layout", "build_ms", "nodes", "bytes", "sah",
+    "primary_nodes", "primary_tris", "primary_mrays", "shadow_nodes", "shadow_tris", "shadow_mrays",
+    "diffuse_nodes", "diffuse_tris", "diffuse_mrays",
+];
+
+fn values(r: &Row) -> [String; 17] {
+    let f1 = |x: f64| format!("{x:.1}");
+    let f2 = |x: f64| format!("{x:.2}");
+    let m = |s: &RayStats| format!("{:.2}", s.rays_per_second / 1e6);
+    [
+        r.scene.clone(),
+        r.triangles.to_string(),
+        format!("{:?}", r.builder),
+        r.layout.name().to_string(),
+        f1(r.build_ms),
+        r.nodes.to_string(),
+        r.bytes.to_string(),
+        f2(f64::from(r.sah)),
+        f1(r.primary.nodes_per_ray),
+        f2(r.primary.tris_per_ray),
+        m(&r.primary),
+        f1(r.shadow.nodes_per_ray),
+        f2(r.shadow.tris_per_ray),
+        m(&r.shadow),
+        f1(r.diffuse.nodes_per_ray),
+        f2(r.diffuse.tris_per_ray),
+        m(&r.diffuse),
+    ]
+}
+
+/// The rows as a Markdown table, CSV (header + one line per row) or a JSON array of objects.
+/// Rays/s are in millions (`*_mrays`), counters are per ray.
+pub fn format_rows(rows: &[Row], format: Format, device: &str) -> String {
+    let mut s = String::new();
+    match format {
+        Format::Table => {
+            let _ = writeln!(s, "device: {device}; nodes/tris = visited/tested per ray; M rays/s include upload and read-back");
+            let _ = writeln!(s, "| {} |", COLUMNS.join(" | "));
+            let _ = writeln!(s, "|{}", "---|".repeat(COLUMNS.len()));
+            for r in rows {
+                let _ = writeln!(s, "| {} |", values(r).join(" | "));
+            }
+        }
+        Format::Csv => {
+            let _ = writeln!(s, "{}", COLUMNS.join(","));
+            for r in rows {
+                let v = values(r).map(|x| if x.contains([',', '"']) { format!("\"{}\"", x.replace('"', "\"\"")) } else { x });
+                let _ = writeln!(s, "{}", v.join(","));
+            }
+        }
+        Format::Json => {
+            s.push_str("[\n");
+            for (i, r) in rows.iter().enumerate() {
+                let fields: Vec<String> = COLUMNS
+                    .iter()
+                    .zip(values(r))
+                    .enumerate()
+                    .map(|(k, (c, v))| {
+                        // Columns 0, 2 and 3 are names; the others are numbers.
+                        if matches!(k, 0 | 2 | 3) { format!("\"{c}\": {}", json_string(&v)) } else { format!("\"{c}\": {v}") }
+                    })
+                    .collect();
+                let _ = writeln!(s, "  {{{}}}{}", fields.join(", "), if i + 1 < rows.len() { "," } else { "" });
+            }
+            s.push_str("]\n");
+        }
+    }
+    s
+}
+
+fn json_string(v: &str) -> String {
+    let mut out = String::from("\"");
+    for c in v.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}

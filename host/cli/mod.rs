@@ -1,0 +1,68 @@
+//! The `vkrt` command line: one file per command. Each parses its flags (clap), runs the
+//! pipeline scene -> prepare -> integrator or query, and writes its output in one place.
+
+pub mod bvh;
+pub mod compare;
+pub mod info;
+pub mod interrupt;
+pub mod merge;
+pub mod progress;
+pub mod render;
+pub mod render_path;
+pub mod trace;
+
+use crate::gpu::{Context, ContextOptions};
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand};
+
+/// vkrt: a GPU-agnostic ray and path tracer on Vulkan compute shaders.
+///
+/// Runs headless on any Vulkan 1.2 device, including Mesa's lavapipe on a machine with no GPU.
+#[derive(Debug, Parser)]
+#[command(name = "vkrt", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene (.obj or lab .yaml) to an image (.png, .exr or .pfm).
+    Render(render::RenderArgs),
+    /// List the Vulkan devices and the limits that matter to vkrt.
+    Info(DeviceArgs),
+    /// Batch ray queries without rendering: rays from an .npy file, hits to an .npy file.
+    Trace(trace::TraceArgs),
+    /// Compare every BVH builder x layout on scenes: a table, CSV or JSON, and a heat map.
+    Bvh(bvh::BvhArgs),
+    /// Add path-traced checkpoints made with different seeds into one image or checkpoint.
+    Merge(merge::MergeArgs),
+    /// Print RMSE, relMSE, PSNR and per-channel mean differences of an image against a reference.
+    Compare(compare::CompareArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct DeviceArgs {
+    /// Vulkan device: an index from `vkrt info` or part of its name. Default: a discrete GPU
+    /// if present, else the best other device (lavapipe on a machine without a GPU).
+    #[arg(long, env = "VKRT_DEVICE", global = true)]
+    pub device: Option<String>,
+}
+
+impl DeviceArgs {
+    /// A Vulkan context on the chosen device (validation as `VKRT_VALIDATION` says).
+    pub fn context(&self) -> Result<Context> {
+        Context::new(&ContextOptions { device: self.device.clone(), ..ContextOptions::from_env() })
+    }
+}
+
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render(args) => render::run(&args),
+        Command::Info(args) => info::run(&args),
+        Command::Trace(args) => trace::run(&args).map(|_| ()),
+        Command::Bvh(args) => bvh::run(&args),
+        Command::Merge(args) => merge::run(&args),
+        Command::Compare(args) => compare::run(&args),
+    }
+}

@@ -1,0 +1,131 @@
+// Numbers shared by the host and the shaders, named once.
+//
+// This file is compiled twice: as `vkrt::gpu_abi::constants`, and by `host/build.rs`, which
+// writes each entry of `ALL` as a `#define` into the generated `constants.glsl` that every
+// shader includes. Only `u32` values; add a line to the table and both sides see it.
+
+macro_rules! shared_constants {
+    ($($(#[$meta:meta])* $name:ident = $value:expr;)*) => {
+        $($(#[$meta])* pub const $name: u32 = $value;)*
+        /// Every shared constant by name, for the GLSL generator and the tests.
+        pub const ALL: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
+    };
+}
+
+shared_constants! {
+    // Descriptor set 0 bindings. The arrays the integrators read (BVH, shading data, textures,
+    // light picks) are uniform texel buffers, RGBA32UI except TEXELS (R32UI)
+    // (shaders/include/bvh_bindings.glsl and scene_bindings.glsl say why), which the layout
+    // probe (shaders/test/layout_probe.comp) declares as struct arrays to check their layout;
+    // FRAME and PATH_PARAMS are uniform buffers; the rest storage buffers.
+    /// Flattened BVH nodes (`GpuNode[]`, 2 texels each).
+    BINDING_NODES = 0;
+    /// Triangles in leaf order (`GpuTriangle[]`, 3 texels each).
+    BINDING_TRIANGLES = 1;
+    /// Per-triangle shading data by primitive id (`GpuShading[]`).
+    BINDING_SHADING = 2;
+    /// Materials (`GpuMaterial[]`).
+    BINDING_MATERIALS = 3;
+    /// Point, directional and spot lights (`GpuLight[]`).
+    BINDING_LIGHTS = 4;
+    /// Emissive triangles (`GpuEmitter[]`).
+    BINDING_EMITTERS = 5;
+    /// Per-frame settings (`GpuFrame`, uniform buffer).
+    BINDING_FRAME = 6;
+    /// Accumulated radiance, one vec4 per pixel (rgb sum, sample count in w).
+    BINDING_ACCUM = 7;
+    /// Rays for batch queries (`GpuRay[]`).
+    BINDING_RAYS = 8;
+    /// Hit records for batch queries (`GpuHit[]`).
+    BINDING_HITS = 9;
+    /// The path tracer's light-selection alias table (`GpuLightPick[]`): emissive triangles
+    /// first, then point, directional and spot lights.
+    BINDING_LIGHT_PICKS = 10;
+    /// The path tracer's settings (`GpuPathParams`, uniform buffer).
+    BINDING_PATH_PARAMS = 11;
+    /// Radiance of the even-indexed samples only, one vec4 per pixel: with BINDING_ACCUM it
+    /// gives two independent half-images whose difference estimates the error.
+    BINDING_ACCUM_EVEN = 12;
+    /// Texture table (`GpuTexture[]`): where each texture's texels start in BINDING_TEXELS.
+    BINDING_TEXTURES = 13;
+    /// Every texture's texels, packed RGBA8 (one u32 each, red in the low byte), concatenated:
+    /// one binding holds any number of textures (`crate::prepare::texture_atlas`).
+    BINDING_TEXELS = 14;
+    /// Per-primitive texture coordinates by primitive id (`GpuUv[]`).
+    BINDING_UVS = 15;
+    /// First of the ten outputs of the texel-decode test probe (shaders/test/texel_decode_probe.comp).
+    BINDING_DECODE_OUT = 16;
+    /// Adaptive sampling: each block's (first sample index, sample count) for the dispatch,
+    /// `uvec2[]` indexed as `sample_key` with the block width (`crate::integrator::path::adaptive`).
+    /// After the decode probe's ten outputs.
+    BINDING_BLOCK_SAMPLES = 26;
+
+    /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
+    /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).
+    WORKGROUP_SIZE_X = 8;
+    WORKGROUP_SIZE_Y = 8;
+    /// Workgroup size for 1D kernels (ray batches).
+    WORKGROUP_SIZE_1D = 64;
+
+    /// A leaf packs (first triangle << LEAF_COUNT_BITS) | count into one u32; 0 count = interior.
+    LEAF_COUNT_BITS = 8;
+    /// Escape link value meaning "traversal is done".
+    NODE_NONE = 0xFFFF_FFFF;
+    /// Marks a leaf in `GpuCompactNode::link` (`crate::accel::compact`).
+    COMPACT_LEAF_FLAG = 0x8000_0000;
+    /// Bits per box-corner cell index in `GpuCompactNode`: two cells per u32.
+    COMPACT_CELL_BITS = 16;
+    /// Primitive id of a miss.
+    PRIM_NONE = 0xFFFF_FFFF;
+
+    /// Material flags (`GpuMaterial::flags`).
+    MATERIAL_MIRROR = 1;
+    MATERIAL_DIELECTRIC = 2;
+    MATERIAL_EMISSIVE = 4;
+    /// The material has an alpha texture with see-through texels: rays test it (alpha.glsl).
+    MATERIAL_ALPHA = 8;
+    /// `GpuMaterial::diffuse_texture`, `alpha_texture` and `GpuFrame::sky_texture` meaning "none".
+    TEXTURE_NONE = 0xFFFF_FFFF;
+
+    /// Specialization constant ids (shaders/include/features.glsl, `crate::prepare::features`): each
+    /// switches one feature's code on; a scene that lacks the feature runs with it compiled out.
+    SPEC_HAS_TEXTURES = 0;
+    SPEC_HAS_ALPHA = 1;
+    SPEC_HAS_DIELECTRIC = 2;
+    SPEC_HAS_MIRROR = 3;
+    SPEC_HAS_GLOSSY = 4;
+    SPEC_HAS_EMITTERS = 5;
+    SPEC_HAS_POINT = 6;
+    SPEC_HAS_DIRECTIONAL = 7;
+    SPEC_HAS_SPOT = 8;
+    SPEC_HAS_SKY = 9;
+
+    /// Light kinds (`GpuLight::kind`).
+    LIGHT_POINT = 0;
+    LIGHT_DIRECTIONAL = 1;
+    LIGHT_SPOT = 2;
+
+    /// Fixed samples per emissive triangle in the Whitted integrator (a stratified pattern).
+    WHITTED_EMITTER_SAMPLES = 4;
+    /// Whitted ray-tree stack entries; max depth is clamped to this minus one.
+    WHITTED_STACK_SIZE = 16;
+
+    /// The wide layout (`crate::accel::wide`): children per node, and how `GpuWideNode::info` packs
+    /// a node's child count (low 3 bits), its ordering axis and its slot in its parent.
+    WIDE_ARITY = 4;
+    WIDE_INFO_AXIS_SHIFT = 3;
+    WIDE_INFO_SLOT_SHIFT = 5;
+    /// "Entered from the parent": every slot of the node is still to visit.
+    WIDE_NO_SLOT = 0xFF;
+
+    /// Path tracer samplers (`GpuPathParams::sampler`).
+    SAMPLER_INDEPENDENT = 0;
+    /// Owen-scrambled Sobol (Burley 2020), the default.
+    SAMPLER_SOBOL = 1;
+    /// `sample_rate`^2 strata per pixel for the pixel position, independent elsewhere.
+    SAMPLER_STRATIFIED = 2;
+    /// Path depth at which Russian roulette starts (Mitsuba's default, which the references use).
+    PATH_RR_DEPTH = 5;
+    /// `GpuPathParams::max_depth` meaning "unbounded".
+    PATH_DEPTH_UNBOUNDED = 0xFFFF_FFFF;
+}

@@ -1,0 +1,113 @@
+//! What each render and dispatch passes besides the scene: the frame and path-tracer uniforms,
+//! the push constants, and the ray and hit records of batch queries (`vkrt trace`).
+
+gpu_structs! {
+    /// Per-render settings (uniform buffer, std140: every vec3 is followed by a 4-byte scalar).
+    pub struct GpuFrame {
+        pub cam_origin: [f32; 3],
+        pub tan_half_fov_y: f32,
+        pub cam_forward: [f32; 3],
+        pub aspect: f32,
+        pub cam_right: [f32; 3],
+        pub width: u32,
+        pub cam_up: [f32; 3],
+        pub height: u32,
+        pub ambient: [f32; 3],
+        pub max_depth: u32,
+        pub light_count: u32,
+        pub emitter_count: u32,
+        pub seed: u32,
+        /// Largest |coordinate| of the scene bounds: the length scale for ray offsets
+        /// (`shaders/include/offset.glsl`).
+        pub scene_scale: f32,
+        /// Radiance of escaping rays: this colour, times the cube map's texel if `sky_texture` is
+        /// set (black: no sky).
+        pub sky_color: [f32; 3],
+        /// First of the six cube-map faces (+x, -x, +y, -y, +z, -z) in the texture table, or
+        /// `TEXTURE_NONE` for a constant sky.
+        pub sky_texture: u32,
+    }
+
+    /// Per-dispatch values (push constants): which tile and which samples this dispatch renders.
+    pub struct GpuPush {
+        pub tile_x: u32,
+        pub tile_y: u32,
+        /// Index of the first sample this dispatch takes per pixel.
+        pub sample_base: u32,
+        /// Samples per pixel in this dispatch.
+        pub sample_count: u32,
+        /// Spp of the whole render (for stratification).
+        pub total_spp: u32,
+        /// Rays in the batch (ray queries) or 0.
+        pub ray_count: u32,
+        /// 1: any-hit (shadow) queries; 0: closest hit.
+        pub any_hit: u32,
+        /// Nodes in the BVH array (all orders of a multi-order layout).
+        pub node_count: u32,
+        /// The compact layout's grid (`crate::accel::compact::QuantGrid`); zero for the other layouts.
+        pub grid_origin: [f32; 3],
+        pub _pad0: u32,
+        pub grid_scale: [f32; 3],
+        pub _pad1: u32,
+    }
+
+    /// The path tracer's per-render settings (uniform buffer, std140).
+    pub struct GpuPathParams {
+        /// Path segments (rays) per path; `PATH_DEPTH_UNBOUNDED` for none.
+        pub max_depth: u32,
+        /// Depth from which Russian roulette may end a path.
+        pub rr_depth: u32,
+        /// `SAMPLER_*`.
+        pub sampler_kind: u32,
+        /// Strata per pixel side for `SAMPLER_STRATIFIED`.
+        pub sample_rate: u32,
+        /// Entries in the light-selection table (emissive triangles, then lights).
+        pub pick_count: u32,
+        /// 1: next-event estimation with MIS; 0: BSDF sampling only.
+        pub nee: u32,
+        /// 1 / the total selection weight (see `crate::prepare::light_table`), so that an emissive
+        /// triangle's area density is pi * mean(Ke) * inv_total_weight.
+        pub inv_total_weight: f32,
+        /// Pixels in a row that draw the same sample numbers (1: every pixel its own; see
+        /// `crate::integrator::path::PathSettings::coherence`).
+        pub coherence: u32,
+        /// Adaptive sampling: the pixels per block (`crate::integrator::path::adaptive::BlockGrid`), each block
+        /// taking the samples BINDING_BLOCK_SAMPLES gives it; 0: every pixel takes the push
+        /// constants' `sample_base .. + sample_count`.
+        pub adaptive: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+
+    /// A ray for batch queries: origin, tmin, direction, tmax (the `vkrt trace` file layout).
+    pub struct GpuRay {
+        pub origin: [f32; 3],
+        pub tmin: f32,
+        pub direction: [f32; 3],
+        pub tmax: f32,
+    }
+
+    /// The result of a batch query, with traversal counters.
+    pub struct GpuHit {
+        /// Distance along the ray; +inf on a miss.
+        pub t: f32,
+        /// Primitive id, or `PRIM_NONE`.
+        pub prim: u32,
+        /// Barycentrics of v1 and v2.
+        pub u: f32,
+        pub v: f32,
+        /// Nodes whose boxes were tested.
+        pub nodes_visited: u32,
+        /// Triangles tested.
+        pub tris_tested: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+}
+
+const _: () = assert!(std::mem::size_of::<GpuFrame>() == 112);
+const _: () = assert!(std::mem::size_of::<GpuPush>() == 64);
+const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 48);
+const _: () = assert!(std::mem::size_of::<GpuRay>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuHit>() == 32);

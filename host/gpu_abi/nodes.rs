@@ -1,0 +1,89 @@
+//! The BVH arrays as the shaders walk them: one node type per stackless layout (each layout's
+//! flatten step and CPU twin are in `crate::accel`), and the triangles in leaf order that every
+//! layout shares.
+
+gpu_structs! {
+    /// A node of the threaded (escape-link) BVH2, in depth-first pre-order.
+    ///
+    /// Traversal: test the box; on a hit, an interior node continues at the next node in the
+    /// array (its left child) and a leaf tests its triangles and continues at `escape`; on a
+    /// miss, continue at `escape`, the next node that is not a descendant. No stack is needed
+    /// (Smits 1998, "Efficiency issues for ray tracing").
+    pub struct GpuNode {
+        pub bmin: [f32; 3],
+        /// Index of the next node after this subtree, or `NODE_NONE`.
+        pub escape: u32,
+        pub bmax: [f32; 3],
+        /// (first triangle << LEAF_COUNT_BITS) | count; count 0 marks an interior node.
+        pub leaf: u32,
+    }
+
+    /// A node of the parent-linked BVH2 walked by the Hapala et al. 2011 state machine
+    /// (`crate::accel::parent_link`). Siblings sit in pairs at indices (2k, 2k+1), k >= 1, so a node's sibling
+    /// is `index ^ 1`; the root is node 0 and node 1 is an unused (empty) filler.
+    pub struct GpuParentNode {
+        pub bmin: [f32; 3],
+        /// (parent index << 4) | (own split axis << 2) | parent's split axis. The split axis picks
+        /// the near child: the even child of a pair is the one with the smaller centre on it.
+        pub parent: u32,
+        pub bmax: [f32; 3],
+        /// Leaf: (first triangle << LEAF_COUNT_BITS) | count. Interior: (even child << LEAF_COUNT_BITS),
+        /// count 0.
+        pub leaf: u32,
+    }
+
+    /// A node of the compact threaded BVH (`crate::accel::compact`): the threaded layout's node in 16 bytes,
+    /// its box as 16-bit cells of a per-scene grid (`GpuPush::grid_origin`, `grid_scale`).
+    pub struct GpuCompactNode {
+        /// Cells of min x (low 16 bits) and min y (high 16 bits).
+        pub min_xy: u32,
+        /// Cells of min z (low) and max x (high).
+        pub min_z_max_x: u32,
+        /// Cells of max y (low) and max z (high).
+        pub max_yz: u32,
+        /// Interior: escape index (top bit clear; the node count past the end). Leaf: top bit set,
+        /// then (first triangle << LEAF_COUNT_BITS) | count; a leaf's escape is the next node.
+        pub link: u32,
+    }
+
+    /// A node of the wide (4-ary) BVH walked by `traverse_wide.glsl` (`crate::accel::wide`): the boxes of
+    /// up to four children side by side (structure of arrays, so one node is eight RGBA32UI texels
+    /// and one visit tests four boxes), what each child is, and the link back to the parent.
+    pub struct GpuWideNode {
+        /// Child boxes, one lane per slot; slots past the child count hold zeros and are never
+        /// tested.
+        pub min_x: [f32; 4],
+        pub min_y: [f32; 4],
+        pub min_z: [f32; 4],
+        pub max_x: [f32; 4],
+        pub max_y: [f32; 4],
+        pub max_z: [f32; 4],
+        /// Per slot: a leaf as (first triangle << LEAF_COUNT_BITS) | count, or an interior child
+        /// as (its node index << LEAF_COUNT_BITS) with count 0.
+        pub children: [u32; 4],
+        /// The parent node's index, or `NODE_NONE` for the root.
+        pub parent: u32,
+        /// Child count | ordering axis << WIDE_INFO_AXIS_SHIFT | slot in the parent <<
+        /// WIDE_INFO_SLOT_SHIFT. Slots are sorted by box centre along the ordering axis.
+        pub info: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+
+    /// A triangle in leaf order, with what intersection needs and nothing else.
+    pub struct GpuTriangle {
+        pub v0: [f32; 3],
+        /// Primitive id: the index in `Scene::triangles`.
+        pub prim: u32,
+        pub v1: [f32; 3],
+        pub _pad0: u32,
+        pub v2: [f32; 3],
+        pub _pad1: u32,
+    }
+}
+
+const _: () = assert!(std::mem::size_of::<GpuNode>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuParentNode>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuCompactNode>() == 16);
+const _: () = assert!(std::mem::size_of::<GpuWideNode>() == 128);
+const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 48);

@@ -1,0 +1,484 @@
+//! Checkpoints of a progressive render: the running sums, the sample count and every setting
+//! that decides which samples a run draws, so that a run can resume and runs with different
+//! seeds can be merged into one exact image.
+//!
+//! Identity: a run is the same render as another if every file its scene was loaded from has
+//! the same content (xxh3 of each: the scene file, its meshes, material libraries, textures
+//! and sky faces, `scene::LoadStats::inputs`), the `--sky` override is the same, and so are
+//! the size and sampling settings. Only the seeds may differ (they are what a merge adds).
+//!
+//! Format (little-endian): magic `VKRTCKPT`, version u32, then the settings (strings as u32
+//! length + UTF-8), samples u64, even_samples u64, then width * height * 4 f32 of `sum` and as
+//! many of `even`, then (version 3) per_pixel u32 (1: adaptive run, counts in `even`'s w) and
+//! the adaptive block rates as a u32 count and that many u32, then (version 4) the sky
+//! override string and the inputs as a u32 count and that many (path string, hash u64).
+//! Versions 1 to 3 stored only an FNV-1a hash of the scene file itself, in the slot where
+//! version 4 stores 0; they still read, with that weaker identity ([`Identity::SceneFile`]).
+//! Written to a temporary file beside the target and renamed into place, so a crash never
+//! leaves a half-written checkpoint under the real name.
+
+use super::accumulation::Accumulation;
+use anyhow::{bail, Context as _, Result};
+use std::path::{Path, PathBuf};
+
+const MAGIC: &[u8; 8] = b"VKRTCKPT";
+const VERSION: u32 = 4;
+/// The format before `coherence` was stored (still read, as coherence 1).
+const VERSION_BEFORE_COHERENCE: u32 = 1;
+/// The format before adaptive runs (still read, as a uniform run).
+const VERSION_BEFORE_ADAPTIVE: u32 = 2;
+/// The last format whose identity was the scene file's FNV-1a hash alone.
+const VERSION_BEFORE_INPUTS: u32 = 3;
+
+/// One file a scene was loaded from, and the xxh3 hash of its content.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct InputHash {
+    /// The path as the loader read it (for messages).
+    pub path: String,
+    pub hash: u64,
+}
+
+/// What makes two runs render the same scene.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Identity {
+    /// Every input file's content and the `--sky` override ("" for the scene's own sky).
+    Inputs { inputs: Vec<InputHash>, sky: String },
+    /// A checkpoint from before format 4: only the FNV-1a hash of the scene file itself.
+    SceneFile { fnv: u64 },
+}
+
+/// Hashes the content of every file in `paths` (the scene's `LoadStats::inputs`).
+pub fn hash_inputs(paths: &[PathBuf]) -> Result<Vec<InputHash>> {
+    paths
+        .iter()
+        .map(|p| {
+            let bytes = std::fs::read(p).with_context(|| format!("reading {} to hash it", p.display()))?;
+            Ok(InputHash { path: p.display().to_string(), hash: xxhash_rust::xxh3::xxh3_64(&bytes) })
+        })
+        .collect()
+}
+
+/// The settings a checkpoint must agree on to be resumed or merged.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RunSettings {
+    /// The scene file as given on the command line (for messages).
+    pub scene_path: String,
+    /// The content of the scene's files and the sky: a changed scene is a different render.
+    pub identity: Identity,
+    pub width: u32,
+    pub height: u32,
+    /// The seeds whose samples the sums hold: one for a plain run, several after a merge.
+    pub seeds: Vec<u32>,
+    /// "path".
+    pub integrator: String,
+    /// `SAMPLER_*`, and the strata per side for the stratified sampler.
+    pub sampler: u32,
+    pub sample_rate: u32,
+    /// `PATH_DEPTH_UNBOUNDED` or the depth.
+    pub max_depth: u32,
+    /// 1: next-event estimation with MIS; 0: BSDF sampling only.
+    pub nee: u32,
+    /// Pixels in a row sharing sample numbers (`PathSettings::coherence`).
+    pub coherence: u32,
+}
+
+impl RunSettings {
+    /// Fails, naming the first difference, unless `self` and `other` render the same image
+    /// (seeds aside).
+    pub fn check_same_render(&self, other: &RunSettings) -> Result<()> {
+        check_same_scene(&self.identity, &other.identity, &self.scene_path, &other.scene_path)?;
+        let checks: [(&str, String, String); 7] = [
+            ("size", format!("{}x{}", self.width, self.height), format!("{}x{}", other.width, other.height)),
+            ("integrator", self.integrator.clone(), other.integrator.clone()),
+            ("sampler", self.sampler.to_string(), other.sampler.to_string()),
+            ("sample rate", self.sample_rate.to_string(), other.sample_rate.to_string()),
+            ("max depth", self.max_depth.to_string(), other.max_depth.to_string()),
+            ("light sampling (nee)", self.nee.to_string(), other.nee.to_string()),
+            ("coherence", self.coherence.to_string(), other.coherence.to_string()),
+        ];
+        for (what, a, b) in checks {
+            if a != b {
+                bail!("{what} differs: {a} ({}) vs {b} ({})", self.scene_path, other.scene_path);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Fails, naming the file or setting, unless two identities are the same scene. A format-3
+/// identity (the scene file's hash alone) can only be compared with another one.
+fn check_same_scene(a: &Identity, b: &Identity, a_name: &str, b_name: &str) -> Result<()> {
+    match (a, b) {
+        (Identity::Inputs { inputs: ia, sky: sa }, Identity::Inputs { inputs: ib, sky: sb }) => {
+            if ia.len() != ib.len() {
+                let list = |v: &[InputHash]| v.iter().map(|i| i.path.as_str()).collect::<Vec<_>>().join(", ");
+                bail!(
+                    "the scenes are made of different files: {a_name} read {} ({}), {b_name} read {} ({})",
+                    ia.len(),
+                    list(ia),
+                    ib.len(),
+                    list(ib)
+                );
+            }
+            for (x, y) in ia.iter().zip(ib) {
+                if x.hash != y.hash {
+                    let same_name = x.path == y.path;
+                    bail!(
+                        "scene file content differs: {}{}",
+                        x.path,
+                        if same_name { " changed".to_string() } else { format!(" vs {}", y.path) }
+                    );
+                }
+            }
+            if sa != sb {
+                let show = |s: &str| if s.is_empty() { "the scene's own".to_string() } else { format!("--sky {s}") };
+                bail!("sky differs: {} ({a_name}) vs {} ({b_name})", show(sa), show(sb));
+            }
+            Ok(())
+        }
+        (Identity::SceneFile { fnv: fa }, Identity::SceneFile { fnv: fb }) => {
+            if fa != fb {
+                bail!("scene file content differs: {fa:016x} ({a_name}) vs {fb:016x} ({b_name})");
+            }
+            Ok(())
+        }
+        _ => bail!(
+            "one of the runs was saved by an older vkrt (checkpoint format {VERSION_BEFORE_INPUTS} or before), which \
+             recorded only the scene file's hash, not its meshes, textures or sky; such a checkpoint can be merged only \
+             with another of its format"
+        ),
+    }
+}
+
+/// FNV-1a (64-bit) of `bytes`: a cheap content fingerprint, not a cryptographic hash.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+/// The FNV-1a hash of a file's content: the identity checkpoints before format 4 stored.
+pub fn fnv1a_file(path: &Path) -> Result<u64> {
+    Ok(fnv1a(&std::fs::read(path).with_context(|| format!("reading {} to hash it", path.display()))?))
+}
+
+/// Settings plus sums.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Checkpoint {
+    pub settings: RunSettings,
+    pub accum: Accumulation,
+}
+
+fn put_str(out: &mut Vec<u8>, s: &str) {
+    out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+    out.extend_from_slice(s.as_bytes());
+}
+
+/// Reads little-endian fields from a byte slice, failing with the field's name when short.
+struct Reader<'a> {
+    data: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Reader<'a> {
+    fn bytes(&mut self, n: usize, field: &str) -> Result<&'a [u8]> {
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
+        let Some(end) = end else { bail!("truncated at field `{field}` (byte {})", self.pos) };
+        let s = &self.data[self.pos..end];
+        self.pos = end;
+        Ok(s)
+    }
+    fn u32(&mut self, field: &str) -> Result<u32> {
+        let b = self.bytes(4, field)?;
+        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+    fn u64(&mut self, field: &str) -> Result<u64> {
+        let b = self.bytes(8, field)?;
+        let mut a = [0u8; 8];
+        a.copy_from_slice(b);
+        Ok(u64::from_le_bytes(a))
+    }
+    fn string(&mut self, field: &str) -> Result<String> {
+        let n = self.u32(field)? as usize;
+        String::from_utf8(self.bytes(n, field)?.to_vec()).with_context(|| format!("field `{field}` is not UTF-8"))
+    }
+    fn floats(&mut self, count: usize, field: &str) -> Result<Vec<[f32; 4]>> {
+        let bytes = self.bytes(count.checked_mul(16).context("image too large")?, field)?;
+        Ok(bytes
+            .chunks_exact(16)
+            .map(|c| {
+                let f = |i: usize| f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]);
+                [f(0), f(4), f(8), f(12)]
+            })
+            .collect())
+    }
+}
+
+impl Checkpoint {
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let s = &self.settings;
+        let mut out = Vec::with_capacity(64 + self.accum.sum.len() * 32);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&VERSION.to_le_bytes());
+        put_str(&mut out, &s.scene_path);
+        // Formats 1-3 stored the scene file's hash here; format 4 keeps the slot, at 0.
+        let legacy = match &s.identity {
+            Identity::SceneFile { fnv } => *fnv,
+            Identity::Inputs { .. } => 0,
+        };
+        out.extend_from_slice(&legacy.to_le_bytes());
+        for v in [s.width, s.height, s.seeds.len() as u32] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        for seed in &s.seeds {
+            out.extend_from_slice(&seed.to_le_bytes());
+        }
+        put_str(&mut out, &s.integrator);
+        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out.extend_from_slice(&self.accum.samples.to_le_bytes());
+        out.extend_from_slice(&self.accum.even_samples.to_le_bytes());
+        for px in self.accum.sum.iter().chain(&self.accum.even) {
+            for c in px {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        out.extend_from_slice(&(self.accum.per_pixel as u32).to_le_bytes());
+        out.extend_from_slice(&(self.accum.rates.len() as u32).to_le_bytes());
+        for r in &self.accum.rates {
+            out.extend_from_slice(&r.to_le_bytes());
+        }
+        if let Identity::Inputs { inputs, sky } = &s.identity {
+            put_str(&mut out, sky);
+            out.extend_from_slice(&(inputs.len() as u32).to_le_bytes());
+            for i in inputs {
+                put_str(&mut out, &i.path);
+                out.extend_from_slice(&i.hash.to_le_bytes());
+            }
+        }
+        out
+    }
+
+    pub fn from_bytes(data: &[u8]) -> Result<Self> {
+        let mut r = Reader { data, pos: 0 };
+        if r.bytes(8, "magic")? != MAGIC {
+            bail!("not a vkrt checkpoint (bad magic)");
+        }
+        let version = r.u32("version")?;
+        if !(VERSION_BEFORE_COHERENCE..=VERSION).contains(&version) {
+            bail!("checkpoint version {version}; this vkrt reads versions {VERSION_BEFORE_COHERENCE} to {VERSION}");
+        }
+        let scene_path = r.string("scene_path")?;
+        let scene_hash = r.u64("scene_hash")?;
+        let width = r.u32("width")?;
+        let height = r.u32("height")?;
+        let seed_count = r.u32("seed count")? as usize;
+        let seeds = (0..seed_count).map(|_| r.u32("seeds")).collect::<Result<Vec<_>>>()?;
+        let integrator = r.string("integrator")?;
+        let sampler = r.u32("sampler")?;
+        let sample_rate = r.u32("sample_rate")?;
+        let max_depth = r.u32("max_depth")?;
+        let nee = r.u32("nee")?;
+        // Version 1 predates the setting: its runs gave every pixel its own numbers.
+        let coherence = if version == VERSION_BEFORE_COHERENCE { 1 } else { r.u32("coherence")? };
+        let samples = r.u64("samples")?;
+        let even_samples = r.u64("even_samples")?;
+        if even_samples > samples {
+            bail!("even_samples {even_samples} exceeds samples {samples}");
+        }
+        let pixels = width as usize * height as usize;
+        let sum = r.floats(pixels, "sum")?;
+        let even = r.floats(pixels, "even")?;
+        let (mut per_pixel, mut rates) = (false, Vec::new());
+        if version > VERSION_BEFORE_ADAPTIVE {
+            per_pixel = match r.u32("per_pixel")? {
+                0 => false,
+                1 => true,
+                v => bail!("field `per_pixel` is {v}, not 0 or 1"),
+            };
+            let n = r.u32("rate count")? as usize;
+            if n > pixels {
+                bail!("field `rate count` is {n}, more than the {pixels} pixels");
+            }
+            rates = (0..n).map(|_| r.u32("rates")).collect::<Result<Vec<_>>>()?;
+        }
+        let identity = if version > VERSION_BEFORE_INPUTS {
+            let sky = r.string("sky")?;
+            let n = r.u32("input count")? as usize;
+            let remaining = data.len() - r.pos;
+            // Each input takes at least 12 bytes: a bad count is an error, not a huge allocation.
+            if n > remaining / 12 {
+                bail!("field `input count` is {n}, more than the {remaining} bytes left can hold");
+            }
+            let inputs = (0..n)
+                .map(|_| Ok(InputHash { path: r.string("input path")?, hash: r.u64("input hash")? }))
+                .collect::<Result<Vec<_>>>()?;
+            Identity::Inputs { inputs, sky }
+        } else {
+            Identity::SceneFile { fnv: scene_hash }
+        };
+        if r.pos != data.len() {
+            bail!("{} unexpected bytes after the data", data.len() - r.pos);
+        }
+        Ok(Self {
+            settings: RunSettings {
+                scene_path,
+                identity,
+                width,
+                height,
+                seeds,
+                integrator,
+                sampler,
+                sample_rate,
+                max_depth,
+                nee,
+                coherence,
+            },
+            accum: Accumulation { width, height, samples, even_samples, sum, even, per_pixel, rates },
+        })
+    }
+
+    /// Writes atomically: a temporary file beside `path`, then a rename.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+        tmp_name.push(format!(".{}.tmp", std::process::id()));
+        let tmp = path.with_file_name(tmp_name);
+        let result = std::fs::write(&tmp, self.to_bytes())
+            .with_context(|| format!("writing {}", tmp.display()))
+            .and_then(|_| std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display())));
+        if result.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        result.with_context(|| format!("writing checkpoint {}", path.display()))
+    }
+
+    pub fn read(path: &Path) -> Result<Self> {
+        let data = std::fs::read(path).with_context(|| format!("reading checkpoint {}", path.display()))?;
+        Self::from_bytes(&data).with_context(|| format!("checkpoint {}", path.display()))
+    }
+
+    /// Adds `other`'s samples: same render, disjoint seeds (the same seed twice would count the
+    /// same samples twice).
+    pub fn merge(&mut self, other: &Checkpoint) -> Result<()> {
+        self.settings.check_same_render(&other.settings).context("cannot merge different renders")?;
+        if let Some(seed) = other.settings.seeds.iter().find(|s| self.settings.seeds.contains(s)) {
+            bail!("both runs used seed {seed}: their samples are the same, merging would count them twice");
+        }
+        self.accum.add(&other.accum)?;
+        self.settings.seeds.extend_from_slice(&other.settings.seeds);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(seed: u32) -> Checkpoint {
+        let mut accum = Accumulation::new(3, 2);
+        accum.samples = 5;
+        accum.even_samples = 3;
+        for (i, p) in accum.sum.iter_mut().enumerate() {
+            *p = [i as f32, 0.5, seed as f32, 0.0];
+        }
+        let settings = RunSettings {
+            scene_path: "a.yaml".into(),
+            identity: Identity::Inputs {
+                inputs: vec![InputHash { path: "a.yaml".into(), hash: 42 }, InputHash { path: "a.obj".into(), hash: 43 }],
+                sky: String::new(),
+            },
+            width: 3,
+            height: 2,
+            seeds: vec![seed],
+            integrator: "path".into(),
+            sampler: 1,
+            sample_rate: 4,
+            max_depth: u32::MAX,
+            nee: 1,
+            coherence: 1,
+        };
+        Checkpoint { settings, accum }
+    }
+
+    #[test]
+    fn round_trips_and_rejects_damage() {
+        let c = sample(7);
+        let bytes = c.to_bytes();
+        assert_eq!(Checkpoint::from_bytes(&bytes).ok().as_ref(), Some(&c));
+        assert!(Checkpoint::from_bytes(&bytes[..bytes.len() - 1]).is_err(), "truncated data accepted");
+        let mut bad = bytes.clone();
+        bad[0] = b'X';
+        assert!(Checkpoint::from_bytes(&bad).is_err(), "bad magic accepted");
+    }
+
+    /// A checkpoint as vkrt wrote it before format 4: identified by the scene file's hash.
+    fn legacy(seed: u32) -> Checkpoint {
+        let mut c = sample(seed);
+        c.settings.identity = Identity::SceneFile { fnv: 42 };
+        c
+    }
+
+    /// Format-3 files (the scene file's hash alone) and version-1 files (before `coherence`
+    /// was stored: read as coherence 1) still read.
+    #[test]
+    fn reads_older_formats() {
+        let mut c = legacy(3);
+        c.settings.coherence = 8;
+        // A legacy identity writes no inputs, so with the version word set to 3 these are the
+        // bytes vkrt wrote in format 3.
+        let mut v3 = c.to_bytes();
+        v3[8..12].copy_from_slice(&VERSION_BEFORE_INPUTS.to_le_bytes());
+        assert_eq!(Checkpoint::from_bytes(&v3).ok().as_ref(), Some(&c));
+        // The coherence word follows magic, version, path, hash, size, seeds, integrator and
+        // the four u32 settings before it.
+        let s = &c.settings;
+        let at = 8 + 4 + (4 + s.scene_path.len()) + 8 + 12 + 4 * s.seeds.len() + (4 + s.integrator.len()) + 16;
+        assert_eq!(v3[at..at + 4], 8u32.to_le_bytes());
+        // Version 1 also lacks version 3's adaptive fields at the end (two zero words here).
+        let v2 = &v3[..v3.len() - 8];
+        let mut v1 = [&v2[..at], &v2[at + 4..]].concat();
+        v1[8..12].copy_from_slice(&VERSION_BEFORE_COHERENCE.to_le_bytes());
+        let read = Checkpoint::from_bytes(&v1).unwrap();
+        assert_eq!(read.settings.coherence, 1);
+        assert_eq!(read.accum, c.accum);
+        let mut future = sample(3).to_bytes();
+        future[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
+        assert!(Checkpoint::from_bytes(&future).is_err(), "a newer version was accepted");
+    }
+
+    #[test]
+    fn adaptive_fields_round_trip() {
+        let mut c = sample(4);
+        c.accum.per_pixel = true;
+        c.accum.rates = vec![2, 4, 32];
+        assert_eq!(Checkpoint::from_bytes(&c.to_bytes()).ok().as_ref(), Some(&c));
+    }
+
+    #[test]
+    fn merge_needs_the_same_render_and_new_seeds() {
+        let mut a = sample(1);
+        assert!(a.merge(&sample(1)).is_err(), "merged a seed with itself");
+        // Any input file's content, or the sky, makes it another render, named in the error.
+        let mut other = sample(2);
+        if let Identity::Inputs { inputs, .. } = &mut other.settings.identity {
+            inputs[1].hash = 44;
+        }
+        let e = a.merge(&other).map(|_| ()).unwrap_err();
+        assert!(format!("{e:#}").contains("a.obj changed"), "{e:#}");
+        let mut other = sample(2);
+        if let Identity::Inputs { sky, .. } = &mut other.settings.identity {
+            *sky = "1,1,1".into();
+        }
+        let e = a.merge(&other).map(|_| ()).unwrap_err();
+        assert!(format!("{e:#}").contains("sky differs"), "{e:#}");
+        assert!(a.merge(&legacy(2)).is_err(), "merged a format-3 checkpoint with a format-4 one");
+        let mut old = legacy(1);
+        let mut changed = legacy(2);
+        changed.settings.identity = Identity::SceneFile { fnv: 7 };
+        assert!(old.merge(&changed).is_err(), "merged format-3 checkpoints of different scene files");
+        assert!(old.merge(&legacy(2)).is_ok());
+        a.merge(&sample(2)).ok();
+        assert_eq!(a.accum.samples, 10);
+        assert_eq!(a.settings.seeds, vec![1, 2]);
+        assert_eq!(a.accum.sum[1], [2.0, 1.0, 3.0, 0.0]);
+    }
+}

@@ -1,0 +1,86 @@
+//! The progressive path tracer (shaders/path.comp): its settings here; the render loop
+//! ([`render`]), which batch comes next ([`schedule`], with [`adaptive`] sampling), when to stop
+//! ([`stop`]), what the caller hears ([`progress`]), and the running sums ([`accumulation`])
+//! that checkpoints store ([`checkpoint`]).
+
+pub mod accumulation;
+pub mod adaptive;
+pub mod checkpoint;
+pub mod params;
+pub mod progress;
+pub mod render;
+pub mod schedule;
+pub mod stop;
+
+pub use accumulation::Accumulation;
+pub use progress::{Hooks, PathProgress};
+pub use render::render;
+pub use stop::Stop;
+
+use super::RenderSettings;
+use crate::gpu_abi::constants::*;
+
+/// How the path tracer draws its random numbers (see shaders/include/sampler.glsl).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplerKind {
+    /// Owen-scrambled Sobol (Burley 2020): low discrepancy, the lowest error per sample.
+    Sobol,
+    /// Independent uniform numbers from a hash of (pixel, sample, seed).
+    Independent,
+    /// `--sample-rate`^2 strata per pixel for the pixel position, independent numbers elsewhere.
+    Stratified,
+}
+
+impl SamplerKind {
+    pub fn gpu_value(self) -> u32 {
+        match self {
+            Self::Sobol => SAMPLER_SOBOL,
+            Self::Independent => SAMPLER_INDEPENDENT,
+            Self::Stratified => SAMPLER_STRATIFIED,
+        }
+    }
+}
+
+/// Path tracer settings. `image.spp` and `image.max_depth` are not used: see `stop` and `max_depth`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathSettings {
+    /// Size, seed, tile size and samples per batch.
+    pub image: RenderSettings,
+    /// Path segments (rays) per path; `None` for unbounded (Russian roulette ends paths).
+    pub max_depth: Option<u32>,
+    pub sampler: SamplerKind,
+    /// Strata per pixel side for the stratified sampler (default 4: 16 strata).
+    pub sample_rate: u32,
+    /// Next-event estimation with MIS (default); false: BSDF sampling only, for tests.
+    pub nee: bool,
+    /// Pixels in a row that draw the same sample numbers (default 1: each pixel its own).
+    /// Coherent path tracing (Sadeghi, Chen & Jensen 2009, "Coherent path tracing", JGT
+    /// 14(2)): with 8, lavapipe's eight lanes (one row of a workgroup) take the same bounce,
+    /// light and roulette decisions at neighbouring points, so their rays stay coherent and
+    /// their paths end together. Each pixel's estimate is distributed as before, so the
+    /// expected error per pixel is the same; the errors of a block's pixels are correlated,
+    /// which shows as short horizontal streaks in the noise (BENCHMARKS.md, "Coherent
+    /// sampling").
+    pub coherence: u32,
+    /// Adaptive sampling ([`adaptive`]): after a uniform pilot of `PILOT_SPP`, each
+    /// block (a workgroup row, or whole coherence blocks) takes samples in proportion to the
+    /// noise the pilot showed around it. Unbiased; `stop.spp` is then the mean over the pixels.
+    pub adaptive: bool,
+    pub stop: Stop,
+}
+
+impl Default for PathSettings {
+    fn default() -> Self {
+        Self {
+            image: RenderSettings::default(),
+            max_depth: None,
+            sampler: SamplerKind::Sobol,
+            sample_rate: 4,
+            nee: true,
+            coherence: 1,
+            adaptive: false,
+            stop: Stop { spp: Some(16), ..Stop::default() },
+        }
+    }
+}
+

@@ -1,0 +1,220 @@
+//! The progressive render loop: short batches of samples, each dispatched tile by tile, until a
+//! stop rule holds ([`super::stop`]); between batches the error estimate, checkpoints, progress
+//! and the interrupt flag ([`super::progress`]). Which samples a batch takes is
+//! [`super::schedule`]'s; the GPU buffers and pipeline are [`PathGpu`]'s.
+
+use super::accumulation::Accumulation;
+use super::adaptive::{block_rates, BlockGrid, PILOT_SPP};
+use super::params::{path_params, PATH_BINDINGS};
+use super::progress::{Hooks, PathProgress};
+use super::schedule::{check_block_batch, uniform_batch, AdaptiveState};
+use super::stop::RunState;
+use super::PathSettings;
+use crate::gpu::{Buffer, Context, MemoryLocation};
+use crate::gpu_abi::constants::*;
+use crate::gpu_abi::GpuPush;
+use crate::integrator::frame::{frame_for, INTEGRATOR_BINDINGS};
+use crate::integrator::tiles::{bind_all, dispatch_samples};
+use crate::integrator::RenderStats;
+use crate::pipeline::shaders::Tracing;
+use crate::pipeline::{BindingKind, ComputePipeline};
+use crate::prepare::GpuScene;
+use anyhow::{bail, Context as _, Result};
+use ash::vk;
+use std::time::Instant;
+
+/// Seconds between read-backs that refresh the error estimate.
+const ESTIMATE_INTERVAL_S: f64 = 1.0;
+
+/// A path-traced render's GPU side: its uniforms, accumulation buffers and pipeline.
+struct PathGpu<'a> {
+    sum: Buffer<'a>,
+    even: Buffer<'a>,
+    /// Each block's (first sample, count) for the next batch of an adaptive run.
+    blocks: Buffer<'a>,
+    pipeline: ComputePipeline<'a>,
+    // Bound to the pipeline; kept alive with it.
+    _frame: Buffer<'a>,
+    _params: Buffer<'a>,
+}
+
+impl<'a> PathGpu<'a> {
+    /// Uploads the settings and the sums of `acc` and builds the pipeline for the scene's layout
+    /// and features.
+    fn new(ctx: &'a Context, scene: &GpuScene, settings: &PathSettings, acc: &Accumulation, block_count: usize) -> Result<Self> {
+        let img = &settings.image;
+        let params = path_params(scene, settings)?;
+        let frame = frame_for(scene, img)?;
+        let uniform = vk::BufferUsageFlags::UNIFORM_BUFFER;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let frame_buf = Buffer::with_data(ctx, "frame", std::slice::from_ref(&frame), uniform)?;
+        let params_buf = Buffer::with_data(ctx, "path params", std::slice::from_ref(&params), uniform)?;
+        let pixels = img.width as u64 * img.height as u64;
+        let sum = Buffer::new(ctx, "accumulation", pixels * 16, storage, MemoryLocation::Device)?;
+        let even = Buffer::new(ctx, "accumulation (even samples)", pixels * 16, storage, MemoryLocation::Device)?;
+        sum.write(bytemuck::cast_slice(&acc.sum))?;
+        even.write(bytemuck::cast_slice(&acc.even))?;
+        let blocks = Buffer::new(ctx, "block samples", block_count as u64 * 8, storage, MemoryLocation::Device)?;
+        let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
+        let features = img.features(&scene.info);
+        let pipeline = ComputePipeline::specialized(
+            ctx,
+            "path",
+            Tracing::Path.spirv(scene.bvh.layout),
+            &bindings,
+            std::mem::size_of::<GpuPush>() as u32,
+            &features.spec_constants(),
+        )?;
+        scene.bind(&pipeline)?;
+        scene.bind_light_picks(&pipeline)?;
+        bind_all(
+            &pipeline,
+            &[
+                (BINDING_FRAME, &frame_buf),
+                (BINDING_ACCUM, &sum),
+                (BINDING_PATH_PARAMS, &params_buf),
+                (BINDING_ACCUM_EVEN, &even),
+                (BINDING_BLOCK_SAMPLES, &blocks),
+            ],
+        )?;
+        Ok(Self { sum, even, blocks, pipeline, _frame: frame_buf, _params: params_buf })
+    }
+
+    /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
+    /// the adaptive rates). `samples`: per pixel, or the mean for per-pixel counts.
+    fn read(&self, like: &Accumulation, samples: u64) -> Result<Accumulation> {
+        let pixels = like.width as usize * like.height as usize;
+        let mut acc = Accumulation::new(like.width, like.height);
+        acc.sum = self.sum.read_as(pixels).context("reading the accumulation buffer")?;
+        acc.even = self.even.read_as(pixels).context("reading the even-sample buffer")?;
+        acc.samples = samples;
+        acc.even_samples = if like.per_pixel { samples / 2 } else { samples.div_ceil(2) };
+        acc.per_pixel = like.per_pixel;
+        acc.rates = like.rates.clone();
+        Ok(acc)
+    }
+}
+
+/// The sums a run starts from: `resume`'s, checked against `settings`, or empty ones.
+fn starting_sums(settings: &PathSettings, grid: BlockGrid, resume: Option<Accumulation>) -> Result<Accumulation> {
+    let img = &settings.image;
+    let acc = resume.unwrap_or_else(|| {
+        let mut a = Accumulation::new(img.width, img.height);
+        a.per_pixel = settings.adaptive;
+        a
+    });
+    if (acc.width, acc.height) != (img.width, img.height) {
+        bail!("resumed sums are {}x{}, the render is {}x{}", acc.width, acc.height, img.width, img.height);
+    }
+    if acc.per_pixel != settings.adaptive {
+        bail!("the resumed run {} adaptive and this one {}", if acc.per_pixel { "is" } else { "is not" }, if settings.adaptive { "is" } else { "is not" });
+    }
+    if !acc.rates.is_empty() && (acc.rates.len() != grid.count() || acc.rates.iter().any(|&r| r == 0 || r % 2 != 0)) {
+        bail!("the resumed run's adaptive rates ({} of them) are not even rates for this render's {} blocks", acc.rates.len(), grid.count());
+    }
+    Ok(acc)
+}
+
+/// Renders `scene` progressively, continuing `resume` if given (its sums and count; samples go
+/// on from its count), until `settings.stop` holds.
+pub fn render(
+    ctx: &Context,
+    scene: &GpuScene,
+    settings: &PathSettings,
+    resume: Option<Accumulation>,
+    hooks: &mut Hooks,
+) -> Result<(Accumulation, RenderStats)> {
+    let img = &settings.image;
+    if img.width == 0 || img.height == 0 {
+        bail!("image size {}x{} is empty", img.width, img.height);
+    }
+    let stop = settings.stop;
+    if stop.spp.is_none() && stop.seconds.is_none() && stop.target_relmse.is_none() {
+        bail!("no stop condition: give a sample count, a time or a target error");
+    }
+    if settings.adaptive && stop.spp.is_some_and(|n| n < PILOT_SPP as u64) {
+        bail!("adaptive sampling needs at least {PILOT_SPP} spp (its uniform pilot); got {}", stop.spp.unwrap_or(0));
+    }
+    let start = Instant::now();
+    let grid = BlockGrid::new(img.width, img.height, settings.coherence);
+    let mut acc = starting_sums(settings, grid, resume)?;
+    let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
+    // One unused block entry for a uniform run.
+    let gpu = PathGpu::new(ctx, scene, settings, &acc, if settings.adaptive { grid.count() } else { 1 })?;
+    let mut stats = RenderStats::default();
+    let pixels = img.width as u64 * img.height as u64;
+    let batch = img.samples_per_batch.max(1) as u64;
+    let empty = scene.bvh.triangle_count == 0;
+    let mut run = RunState { samples: acc.samples, first_sample: acc.samples, ..RunState::default() };
+    let (mut last_estimate, mut last_checkpoint) = (start, start);
+    loop {
+        run.seconds = start.elapsed().as_secs_f64();
+        if stop.holds(&run) || (empty && run.samples > run.first_sample) {
+            break;
+        }
+        if hooks.interrupt.is_some_and(|i| i.load(std::sync::atomic::Ordering::SeqCst)) {
+            stats.interrupted = true;
+            break;
+        }
+        let t_batch = Instant::now();
+        let mut dispatch = |base: u32, count: u32| -> Result<()> {
+            if empty {
+                return Ok(());
+            }
+            dispatch_samples(ctx, &scene.bvh.push, &gpu.pipeline, "path tile", img, base, count, 0, &mut || stats.submissions += 1)
+        };
+        if let Some(state) = adaptive.as_mut() {
+            if state.pilot_done() && acc.rates.is_empty() {
+                acc = gpu.read(&acc, run.samples)?;
+                acc.rates = block_rates(&acc, grid);
+            }
+            let next = state.next_batch(&acc.rates, batch, stop.spp.map(|n| n * pixels));
+            if next.iter().all(|b| b[1] == 0) {
+                break;
+            }
+            check_block_batch(&next)?;
+            gpu.blocks.write(bytemuck::cast_slice(&next))?;
+            // Each block's samples come from the block buffer, not the push constants.
+            dispatch(0, 0)?;
+            state.advance(&next);
+            run.samples = state.total() / pixels;
+        } else {
+            let count = uniform_batch(run.samples, batch, &stop)?;
+            dispatch(run.samples as u32, count as u32)?;
+            run.samples += count;
+        }
+        run.last_batch_s = t_batch.elapsed().as_secs_f64();
+        let now = Instant::now();
+        let want_estimate = stop.target_relmse.is_some() || hooks.checkpoint.is_some();
+        if want_estimate && now.duration_since(last_estimate).as_secs_f64() >= ESTIMATE_INTERVAL_S {
+            acc = gpu.read(&acc, run.samples)?;
+            run.relmse = acc.estimate_relmse();
+            last_estimate = now;
+        }
+        if let Some(hook) = hooks.checkpoint.as_mut() {
+            if now.duration_since(last_checkpoint).as_secs_f64() >= hooks.checkpoint_interval_s {
+                acc = gpu.read(&acc, run.samples)?;
+                hook(&acc)?;
+                last_checkpoint = now;
+            }
+        }
+        if let Some(progress) = hooks.progress.as_mut() {
+            let seconds = start.elapsed().as_secs_f64();
+            let at = RunState { seconds, ..run };
+            progress(&PathProgress {
+                samples: run.samples,
+                seconds,
+                samples_per_second: (run.samples - run.first_sample) as f64 * pixels as f64 / seconds.max(1e-9),
+                relmse: run.relmse,
+                fraction: stop.fraction(&at),
+            });
+        }
+    }
+    acc = gpu.read(&acc, run.samples)?;
+    if let Some(hook) = hooks.checkpoint.as_mut() {
+        hook(&acc)?;
+    }
+    stats.nonfinite_samples = acc.nonfinite_samples();
+    stats.seconds = start.elapsed().as_secs_f64();
+    Ok((acc, stats))
+}

@@ -1,0 +1,118 @@
+//! The prepare stage: everything a render needs from a scene, computed once. The BVH is built
+//! and laid out, the shading arrays, texture atlas and light table are filled, the shader
+//! features, bounds and camera frame are worked out ([`PreparedScene::new`]); [`upload`] puts
+//! it on the device. Integrators and batch queries take only the uploaded result.
+
+pub mod features;
+pub mod light_table;
+pub mod scene_buffers;
+pub mod texture_atlas;
+pub mod upload;
+
+pub use features::Features;
+pub use upload::{GpuBvh, GpuScene};
+
+use crate::accel::{self, FlatBvh, LayoutKind};
+use crate::bvh::{self, BuildConfig, BuilderKind};
+use crate::geom::Aabb;
+use crate::gpu_abi::constants::TEXTURE_NONE;
+use crate::scene::camera::CameraFrame;
+use crate::scene::{Scene, Sky};
+use anyhow::{Context as _, Result};
+use glam::Vec3;
+use light_table::LightTable;
+use scene_buffers::SceneBuffers;
+use texture_atlas::{TextureAtlas, TEXEL_BUDGET_BYTES};
+
+/// How to build and lay out the BVH.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PrepareOptions {
+    /// Default: binned SAH.
+    pub builder: BuilderKind,
+    /// Default: threaded.
+    pub layout: LayoutKind,
+    pub build: BuildConfig,
+}
+
+/// What the integrators need to know about a scene besides its arrays.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneInfo {
+    /// The camera's frame, or why the scene's camera has none (a degenerate camera only stops
+    /// a render, not a batch query).
+    pub camera: std::result::Result<CameraFrame, String>,
+    /// Constant ambient light of the Whitted integrator.
+    pub ambient: Vec3,
+    /// What escaping rays see: a colour, times the cube map's texel if `sky_texture` is not
+    /// `TEXTURE_NONE` (`GpuFrame::sky_color`, `sky_texture`).
+    pub sky_color: [f32; 3],
+    pub sky_texture: u32,
+    /// Bounds of all triangles.
+    pub bounds: Aabb,
+    /// Largest |coordinate| of the bounds: the length scale for ray offsets
+    /// (`shaders/include/offset.glsl`).
+    pub scale: f32,
+    /// Radius of the bounding sphere: what a directional light's power is measured over.
+    pub radius: f32,
+    /// The shader features the scene uses.
+    pub features: Features,
+}
+
+impl SceneInfo {
+    pub fn of(scene: &Scene) -> Self {
+        let bounds = scene.bounds();
+        let (sky_color, sky_texture) = match scene.sky {
+            Sky::None => ([0.0; 3], TEXTURE_NONE),
+            Sky::Constant(c) => (c.to_array(), TEXTURE_NONE),
+            Sky::CubeMap { first_texture, scale } => (scale.to_array(), first_texture),
+        };
+        Self {
+            camera: scene.camera.frame().map_err(|e| format!("{e:#}")),
+            ambient: scene.ambient,
+            sky_color,
+            sky_texture,
+            bounds,
+            scale: if bounds.is_empty() { 1.0 } else { bounds.min.abs().max(bounds.max.abs()).max_element().max(f32::MIN_POSITIVE) },
+            radius: if bounds.is_empty() { 0.0 } else { 0.5 * bounds.extent().length() },
+            features: Features::of(scene),
+        }
+    }
+
+    /// The camera frame, or an error saying why there is none.
+    pub fn camera(&self) -> Result<&CameraFrame> {
+        self.camera.as_ref().map_err(|e| anyhow::anyhow!("{e}")).context("camera")
+    }
+}
+
+/// A scene prepared for the GPU, on the CPU side.
+#[derive(Debug)]
+pub struct PreparedScene {
+    pub flat: FlatBvh,
+    pub buffers: SceneBuffers,
+    pub atlas: TextureAtlas,
+    pub lights: LightTable,
+    pub info: SceneInfo,
+    /// Seconds the BVH build and layout took.
+    pub build_seconds: f64,
+}
+
+impl PreparedScene {
+    pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
+        let (flat, build_seconds) = build_bvh(scene, options)?;
+        let info = SceneInfo::of(scene);
+        let buffers = SceneBuffers::new(scene);
+        let lights = LightTable::new(&buffers, info.radius);
+        let atlas = TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES);
+        Ok(Self { flat, buffers, atlas, lights, info, build_seconds })
+    }
+}
+
+/// Builds the scene's BVH with `options.builder` and lays it out as `options.layout`: all a
+/// batch query needs. Also returns the seconds it took.
+pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, f64)> {
+    let start = std::time::Instant::now();
+    let (boxes, centroids) = crate::scene::triangle_boxes(&scene.triangles);
+    let tree = bvh::build(options.builder, &boxes, &centroids, &options.build);
+    let flat = accel::flatten(&tree, &scene.triangles, options.layout)
+        .with_context(|| format!("flattening the BVH as {}", options.layout.name()))?;
+    Ok((flat, start.elapsed().as_secs_f64()))
+}

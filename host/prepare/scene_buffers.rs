@@ -1,0 +1,123 @@
+//! The per-scene arrays besides the BVH: shading data, materials, lights and emitters.
+
+use super::texture_atlas::gpu_index;
+use crate::gpu_abi::constants::*;
+use crate::gpu_abi::{GpuEmitter, GpuLight, GpuMaterial, GpuShading, GpuUv};
+use crate::scene::{Light, Material, Scene};
+
+/// Everything the shaders read about a scene except its BVH.
+#[derive(Debug, Clone, Default)]
+pub struct SceneBuffers {
+    pub shading: Vec<GpuShading>,
+    pub materials: Vec<GpuMaterial>,
+    pub lights: Vec<GpuLight>,
+    pub emitters: Vec<GpuEmitter>,
+    /// Texture coordinates by primitive id; empty when no material has a texture (the shaders
+    /// then never read them, and big untextured scenes save 32 bytes a triangle).
+    pub uvs: Vec<GpuUv>,
+}
+
+pub fn gpu_material(m: &Material) -> GpuMaterial {
+    let mut flags = 0;
+    if m.is_mirror() {
+        flags |= MATERIAL_MIRROR;
+    }
+    if m.is_dielectric() {
+        flags |= MATERIAL_DIELECTRIC;
+    }
+    if m.is_emissive() {
+        flags |= MATERIAL_EMISSIVE;
+    }
+    if m.alpha_texture.is_some() {
+        flags |= MATERIAL_ALPHA;
+    }
+    GpuMaterial {
+        diffuse: m.diffuse.to_array(),
+        flags,
+        specular: m.specular.to_array(),
+        shininess: m.shininess,
+        emission: m.emission.to_array(),
+        ior: m.ior,
+        diffuse_texture: gpu_index(m.diffuse_texture),
+        alpha_texture: gpu_index(m.alpha_texture),
+        _pad0: 0,
+        _pad1: 0,
+    }
+}
+
+pub fn gpu_light(l: &Light) -> GpuLight {
+    let (kind, position, direction, intensity, radius) = match *l {
+        Light::Point { position, intensity } => (LIGHT_POINT, position, glam::Vec3::ZERO, intensity, 0.0),
+        Light::Directional { direction, intensity } => {
+            (LIGHT_DIRECTIONAL, glam::Vec3::ZERO, direction.normalize_or_zero(), intensity, 0.0)
+        }
+        Light::Spot { position, direction, intensity, radius } => {
+            (LIGHT_SPOT, position, direction.normalize_or_zero(), intensity, radius)
+        }
+    };
+    GpuLight {
+        position: position.to_array(),
+        kind,
+        direction: direction.to_array(),
+        radius,
+        intensity: intensity.to_array(),
+        _pad0: 0,
+    }
+}
+
+impl SceneBuffers {
+    pub fn new(scene: &Scene) -> Self {
+        let shading = scene
+            .triangles
+            .iter()
+            .map(|t| {
+                let n = t.n.unwrap_or([t.cross().normalize_or_zero(); 3]);
+                GpuShading {
+                    n0: n[0].to_array(),
+                    material: t.material,
+                    n1: n[1].to_array(),
+                    _pad0: 0,
+                    n2: n[2].to_array(),
+                    _pad1: 0,
+                }
+            })
+            .collect();
+        let emitters = scene
+            .emissive_triangles()
+            .into_iter()
+            .map(|prim| {
+                let t = &scene.triangles[prim as usize];
+                GpuEmitter {
+                    v0: t.p[0].to_array(),
+                    prim,
+                    v1: t.p[1].to_array(),
+                    area: t.area(),
+                    v2: t.p[2].to_array(),
+                    _pad0: 0,
+                    radiance: scene.materials[t.material as usize].emission.to_array(),
+                    _pad1: 0,
+                }
+            })
+            .collect();
+        let textured = scene.materials.iter().any(|m| m.diffuse_texture.is_some() || m.alpha_texture.is_some());
+        let uvs = if textured {
+            scene
+                .triangles
+                .iter()
+                .map(|t| {
+                    let uv = t.uv.unwrap_or_default();
+                    GpuUv { uv0: uv[0].to_array(), uv1: uv[1].to_array(), uv2: uv[2].to_array(), _pad0: 0, _pad1: 0 }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Self {
+            uvs,
+            shading,
+            materials: scene.materials.iter().map(gpu_material).collect(),
+            lights: scene.lights.iter().map(gpu_light).collect(),
+            emitters,
+        }
+    }
+}

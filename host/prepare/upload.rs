@@ -1,0 +1,121 @@
+//! A prepared scene on the device: the BVH arrays ([`GpuBvh`], all a batch query needs) and the
+//! shading arrays, texture atlas and light table beside them ([`GpuScene`], what the
+//! integrators bind). Every array is read at per-lane indices (a ray's node, a hit's triangle
+//! and material, a sampled light), so all are texel buffers; shaders/include/scene_bindings.glsl
+//! says why.
+
+use super::{PreparedScene, SceneInfo};
+use crate::accel::{FlatBvh, LayoutKind};
+use crate::gpu::{Context, TexelArray, TexelFormat};
+use crate::gpu_abi::constants::*;
+use crate::gpu_abi::GpuPush;
+use crate::pipeline::ComputePipeline;
+use anyhow::{Context as _, Result};
+
+/// A BVH on the device: nodes of one layout and the triangles in leaf order.
+pub struct GpuBvh<'a> {
+    pub nodes: TexelArray<'a>,
+    pub triangles: TexelArray<'a>,
+    pub triangle_count: u32,
+    /// Which layout `nodes` holds: shaders must be the variant for it.
+    pub layout: LayoutKind,
+    /// The BVH's part of the push constants (node count, layout data); each dispatch fills in
+    /// the rest.
+    pub push: GpuPush,
+}
+
+impl<'a> GpuBvh<'a> {
+    /// Uploads `flat`; fails, naming the array, if one holds more texels than the device lets a
+    /// texel buffer address.
+    pub fn upload(ctx: &'a Context, flat: &FlatBvh) -> Result<Self> {
+        Ok(Self {
+            nodes: TexelArray::with_data(ctx, "BVH nodes", flat.nodes.bytes(), TexelFormat::Rgba32Uint)?,
+            triangles: TexelArray::with_data(ctx, "triangles", &flat.triangles, TexelFormat::Rgba32Uint)?,
+            triangle_count: flat.triangles.len() as u32,
+            layout: flat.layout(),
+            push: flat.push(),
+        })
+    }
+
+    /// Binds the node and triangle texel buffers (BINDING_NODES, BINDING_TRIANGLES).
+    pub fn bind(&self, pipeline: &ComputePipeline) -> Result<()> {
+        pipeline.bind_texels(BINDING_NODES, &self.nodes.view)?;
+        pipeline.bind_texels(BINDING_TRIANGLES, &self.triangles.view)
+    }
+}
+
+/// A whole prepared scene on the device.
+pub struct GpuScene<'a> {
+    pub bvh: GpuBvh<'a>,
+    pub shading: TexelArray<'a>,
+    pub materials: TexelArray<'a>,
+    pub lights: TexelArray<'a>,
+    pub emitters: TexelArray<'a>,
+    pub textures: TexelArray<'a>,
+    pub texels: TexelArray<'a>,
+    pub uvs: TexelArray<'a>,
+    /// The path tracer's light-selection alias table (`GpuLightPick[]`).
+    pub light_picks: TexelArray<'a>,
+    pub light_count: u32,
+    pub emitter_count: u32,
+    /// Entries in `light_picks`.
+    pub pick_count: u32,
+    /// 1 / the light table's total weight (0 when nothing emits).
+    pub inv_total_weight: f32,
+    pub info: SceneInfo,
+}
+
+impl<'a> GpuScene<'a> {
+    /// Uploads `prepared`; fails, naming the array, if one holds more texels than the device
+    /// lets a texel buffer address.
+    pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
+        use TexelFormat::{R32Uint, Rgba32Uint};
+        let b = &prepared.buffers;
+        let table = &prepared.lights;
+        Ok(Self {
+            bvh: GpuBvh::upload(ctx, &prepared.flat)?,
+            shading: TexelArray::with_data(ctx, "shading data", &b.shading, Rgba32Uint)?,
+            materials: TexelArray::with_data(ctx, "materials", &b.materials, Rgba32Uint)?,
+            lights: TexelArray::with_data(ctx, "lights", &b.lights, Rgba32Uint)?,
+            emitters: TexelArray::with_data(ctx, "emitters", &b.emitters, Rgba32Uint)?,
+            textures: TexelArray::with_data(ctx, "texture table", &prepared.atlas.table, Rgba32Uint)?,
+            // One packed RGBA8 texel per R32UI texel, decoded in the shader.
+            texels: TexelArray::with_data(ctx, "texels", &prepared.atlas.texels, R32Uint)?,
+            uvs: TexelArray::with_data(ctx, "texture coordinates", &b.uvs, Rgba32Uint)?,
+            light_picks: TexelArray::with_data(ctx, "light picks", &table.picks, Rgba32Uint)?,
+            light_count: b.lights.len() as u32,
+            emitter_count: b.emitters.len() as u32,
+            pick_count: table.picks.len() as u32,
+            inv_total_weight: if table.total_weight > 0.0 { (1.0 / table.total_weight) as f32 } else { 0.0 },
+            info: prepared.info.clone(),
+        })
+    }
+
+    /// The scene's shading arrays by binding number (texel buffers, like the BVH's).
+    pub fn shading_bindings(&self) -> [(u32, &TexelArray<'a>); 7] {
+        [
+            (BINDING_SHADING, &self.shading),
+            (BINDING_MATERIALS, &self.materials),
+            (BINDING_LIGHTS, &self.lights),
+            (BINDING_EMITTERS, &self.emitters),
+            (BINDING_TEXTURES, &self.textures),
+            (BINDING_TEXELS, &self.texels),
+            (BINDING_UVS, &self.uvs),
+        ]
+    }
+
+    /// Binds everything of the scene an integrator shader reads: the BVH and the shading
+    /// arrays (not the light picks: only the path tracer reads them, [`Self::bind_light_picks`]).
+    pub fn bind(&self, pipeline: &ComputePipeline) -> Result<()> {
+        self.bvh.bind(pipeline)?;
+        for (binding, array) in self.shading_bindings() {
+            pipeline.bind_texels(binding, &array.view).with_context(|| format!("binding {binding}"))?;
+        }
+        Ok(())
+    }
+
+    /// Binds the light-selection table (BINDING_LIGHT_PICKS).
+    pub fn bind_light_picks(&self, pipeline: &ComputePipeline) -> Result<()> {
+        pipeline.bind_texels(BINDING_LIGHT_PICKS, &self.light_picks.view)
+    }
+}

@@ -1,0 +1,67 @@
+// What every layout's walk shares: the hit record (with the traversal counters) and the leaf
+// test. CPU twin: host/accel/leaf.rs.
+//
+// ALPHA_TEST (a define of the integrators' shader variants, host/pipeline/variants.rs) makes
+// the leaf test skip see-through texels (alpha.glsl), so that closest-hit and shadow queries of
+// every layout pass through cut-outs; without it (trace.comp) rays see geometry only.
+#ifndef VKRT_LEAF_GLSL
+#define VKRT_LEAF_GLSL
+#include "bvh_bindings.glsl"
+#ifdef ALPHA_TEST
+#include "alpha.glsl"
+#endif
+#include "intersect.glsl"
+
+struct Hit {
+    float t;
+    uint prim;
+    float u;
+    float v;
+    // Instrumentation: boxes tested and triangles tested for this query.
+    uint nodes_visited;
+    uint tris_tested;
+    // Index of the hit triangle in leaf order (triangles[]), for fetching its vertices.
+    uint slot;
+};
+
+Hit hit_none() {
+    Hit hit;
+    hit.t = 1.0 / 0.0;
+    hit.prim = PRIM_NONE;
+    hit.u = 0.0;
+    hit.v = 0.0;
+    hit.nodes_visited = 0u;
+    hit.tris_tested = 0u;
+    hit.slot = 0u;
+    return hit;
+}
+
+// Test a leaf's triangles in order, shrinking tmax and updating hit on each closer hit; true if
+// any was hit. An any-hit query stops at the first hit. CPU twin: accel::leaf::test_leaf.
+bool test_leaf(uint leaf, RayPre r, inout float tmax, inout Hit hit, bool any_hit) {
+    uint first = leaf >> LEAF_COUNT_BITS;
+    uint count = leaf & ((1u << LEAF_COUNT_BITS) - 1u);
+    bool found = false;
+    for (uint i = first; i < first + count; i++) {
+        GpuTriangle tri = load_triangle(i);
+        hit.tris_tested++;
+        float t, u, v;
+        if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
+#ifdef ALPHA_TEST
+            // A see-through texel is no hit at all (alpha.glsl).
+            if (!alpha_passes(tri.prim, u, v)) continue;
+#endif
+            tmax = t;
+            hit.t = t;
+            hit.prim = tri.prim;
+            hit.u = u;
+            hit.v = v;
+            hit.slot = i;
+            found = true;
+            if (any_hit) break;
+        }
+    }
+    return found;
+}
+
+#endif
