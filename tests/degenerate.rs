@@ -32,7 +32,7 @@ fn check(name: &str, scene: &Scene, rays: &[GpuRay]) -> Vec<GpuHit> {
         let (boxes, centroids) = vkrt::scene::triangle_boxes(&scene.triangles);
         let tree = bvh::build(builder, &boxes, &centroids, &BuildConfig::default());
         bvh::validate::validate(&tree, &boxes).unwrap_or_else(|e| panic!("{name} {builder:?}: {e}"));
-        let prepared = PreparedScene::new(scene, &PrepareOptions { builder: builder, layout: layout, ..Default::default() }).unwrap();
+        let prepared = PreparedScene::new(scene, &PrepareOptions { builder, layout, ..Default::default() }).unwrap();
         let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
         let hits = trace_rays(&ctx, &gpu.bvh, rays, false).unwrap();
         for (i, (r, g)) in rays.iter().zip(&hits).enumerate() {

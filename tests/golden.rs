@@ -24,7 +24,7 @@ const GOLDEN_BAD_THRESHOLD: f32 = 0.02;
 fn render_whitted(scene_path: &str, settings: &RenderSettings, builder: BuilderKind) -> Image {
     let scene = vkrt::scene::load_scene(&common::repo_path(scene_path)).unwrap();
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: builder, ..Default::default() }).unwrap();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
     let (image, stats) = whitted::render(&ctx, &gpu, settings, &mut |_, _| {}).unwrap();
     assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples in {scene_path}");

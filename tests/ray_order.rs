@@ -45,7 +45,7 @@ fn every_order_gives_the_same_hits() {
         .collect();
     let ctx = gpu_context();
     for layout in [LayoutKind::Threaded, LayoutKind::ParentLink] {
-        let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout: layout, ..Default::default() }).unwrap();
+        let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() }).unwrap();
         let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
         let mut query = RayQuery::new(&ctx, &gpu.bvh).unwrap();
         query.order = RayOrder::Given;

@@ -85,7 +85,7 @@ fn leaks(mesh: &IndexedMesh, name: &str, scale: f32, offset: Vec3, ctx: &vkrt::g
     let mut leaked = 0;
     let mut tried = 0;
     for layout in LayoutKind::ALL {
-    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout: layout, ..Default::default() }).unwrap();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(ctx, &prepared).unwrap();
     let gpu_hits = trace_rays(ctx, &gpu.bvh, &rays, false).unwrap();
     tried += 2 * rays.len();

@@ -37,7 +37,7 @@ fn albedo_scene(triangles: Vec<Triangle>, materials: Vec<Material>, textures: Ve
 
 fn whitted_image(scene: &Scene, layout: LayoutKind, size: (u32, u32), all_features: bool) -> Image {
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::new(scene, &PrepareOptions { builder: BuilderKind::Sah, layout: layout, ..Default::default() }).unwrap();
+    let prepared = PreparedScene::new(scene, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() }).unwrap();
     let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
     let settings =
         RenderSettings { width: size.0, height: size.1, spp: 1, max_depth: 3, all_features, ..RenderSettings::default() };

@@ -47,16 +47,20 @@ impl RayPre {
             std::mem::swap(&mut kx, &mut ky);
         }
         let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
-        // `ray_pre`: a ray with a NaN misses every box.
-        let nan_ray = origin.is_nan() || d.is_nan() || ray.tmin.is_nan();
-        let tmin = if nan_ray { f32::INFINITY } else { ray.tmin };
-        Self { origin, inv_dir, tmin, kx, ky, kz, shear }
+        // `ray_pre`: a ray with a NaN anywhere gets origin 0, inverse direction 0 and tmin =
+        // +inf, so every slab distance is 0 and the first box test fails (t_enter = +inf >
+        // t_exit <= 0), whatever tmax is.
+        let nan_ray = origin.is_nan() || d.is_nan() || ray.tmin.is_nan() || ray.tmax.is_nan();
+        if nan_ray {
+            return Self { origin: Vec3::ZERO, inv_dir: Vec3::ZERO, tmin: f32::INFINITY, kx, ky, kz, shear };
+        }
+        Self { origin, inv_dir, tmin: ray.tmin, kx, ky, kz, shear }
     }
 }
 
 /// `intersect_box`: the entry distance if the ray overlaps the box within [tmin, tmax], else
-/// None. Conservative per Ize 2013. Boxes are finite, and a NaN ray has tmin = +inf
-/// (`RayPre::new`), so it misses every box.
+/// None. Conservative per Ize 2013. Boxes are finite, and a NaN ray misses every box
+/// (`RayPre::new`).
 pub fn intersect_box(r: &RayPre, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
     let t0 = (bmin - r.origin) * r.inv_dir;
     let t1 = (bmax - r.origin) * r.inv_dir;

@@ -24,22 +24,24 @@ float safe_reciprocal(float d) {
     return d == 0.0 ? ((floatBitsToUint(d) >> 31) != 0u ? -FLOAT_MAX : FLOAT_MAX) : 1.0 / d;
 }
 
-RayPre ray_pre(vec3 origin, vec3 dir, float tmin) {
+RayPre ray_pre(vec3 origin, vec3 dir, float tmin, float tmax) {
     RayPre r;
     r.origin = origin;
     r.dir = dir;
 #ifdef PLAIN_INTERSECT
     r.inv_dir = 1.0 / dir;
-#else
-    r.inv_dir = vec3(safe_reciprocal(dir.x), safe_reciprocal(dir.y), safe_reciprocal(dir.z));
-#endif
-#ifdef PLAIN_INTERSECT
     r.tmin = tmin;
 #else
-    // A ray with a NaN gets tmin = +inf, so that every box test fails at the root: the select
-    // min/max below may drop a NaN operand, so they cannot be relied on to reject it.
-    bool nan_ray = any(isnan(origin)) || any(isnan(dir)) || isnan(tmin);
+    r.inv_dir = vec3(safe_reciprocal(dir.x), safe_reciprocal(dir.y), safe_reciprocal(dir.z));
+    // A ray with a NaN anywhere must miss at the root. The select min/max of the slab test may
+    // drop a NaN operand, and a zero direction component makes a far slab distance overflow to
+    // infinity, so such a ray could enter most boxes. Instead it gets origin 0 and inverse
+    // direction 0 (every slab distance is then 0, so t_exit <= 0) and tmin = +inf (t_enter =
+    // +inf): the first box test fails, whatever tmax is.
+    bool nan_ray = any(isnan(origin)) || any(isnan(dir)) || isnan(tmin) || isnan(tmax);
     r.tmin = nan_ray ? 1.0 / 0.0 : tmin;
+    r.origin = nan_ray ? vec3(0.0) : origin;
+    r.inv_dir = nan_ray ? vec3(0.0) : r.inv_dir;
 #endif
     vec3 a = abs(dir);
     r.kz = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
@@ -66,8 +68,8 @@ vec4 sel_min(vec4 a, vec4 b) { return mix(b, a, lessThan(a, b)); }
 vec4 sel_max(vec4 a, vec4 b) { return mix(b, a, greaterThan(a, b)); }
 
 // Entry distance if the ray overlaps the box within [tmin, tmax], else -1 with `hit` false.
-// Boxes are finite (the loaders drop triangles with a non-finite vertex), and a NaN ray has
-// tmin = +inf (ray_pre), so it misses every box.
+// Boxes are finite (the loaders drop triangles with a non-finite vertex), and a NaN ray misses
+// every box (ray_pre).
 bool intersect_box(RayPre r, vec3 bmin, vec3 bmax, float tmax, out float t_enter) {
     precise vec3 t0 = (bmin - r.origin) * r.inv_dir;
     precise vec3 t1 = (bmax - r.origin) * r.inv_dir;

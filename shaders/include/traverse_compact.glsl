@@ -21,7 +21,7 @@ vec3 decode_cells(uvec3 q) {
 }
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
-    RayPre r = ray_pre(origin, dir, tmin);
+    RayPre r = ray_pre(origin, dir, tmin, tmax);
     Hit hit = hit_none();
     uint count = node_count();
     const uint cell_mask = (1u << COMPACT_CELL_BITS) - 1u;

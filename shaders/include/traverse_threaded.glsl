@@ -5,7 +5,7 @@
 #include "threaded_walk.glsl"
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
-    return traverse_threaded_from(0u, ray_pre(origin, dir, tmin), tmax, any_hit);
+    return traverse_threaded_from(0u, ray_pre(origin, dir, tmin, tmax), tmax, any_hit);
 }
 
 #endif

@@ -49,7 +49,7 @@ uint wide_slots_after(uint from, bool reverse) {
 }
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
-    RayPre r = ray_pre(origin, dir, tmin);
+    RayPre r = ray_pre(origin, dir, tmin, tmax);
     Hit hit = hit_none();
     const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
     uint count = node_count();
