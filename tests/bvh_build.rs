@@ -2,6 +2,8 @@
 //! builder on the SAH, and a walk of the tree finds the same closest hit as brute force (so no
 //! geometry is lost), on random, degenerate and real inputs.
 
+mod common;
+
 use std::path::Path;
 use std::time::Instant;
 
@@ -452,7 +454,10 @@ fn mismatched_centroids_fall_back_to_box_centres() {
 // Real scenes
 
 #[test]
-fn cornell_box_validates_and_rays_agree() {
+fn shared_cornell_box_validates_and_rays_agree() {
+    if common::skip_without_shared("shared_cornell_box_validates_and_rays_agree") {
+        return;
+    }
     let tris = load_obj("cornell-box/CornellBox-Original.obj");
     let (boxes, centroids) = tri_boxes(&tris);
     for kind in BUILDERS {
@@ -465,7 +470,10 @@ fn cornell_box_validates_and_rays_agree() {
 }
 
 #[test]
-fn bunny_validates_rays_agree_and_sah_beats_median() {
+fn shared_bunny_validates_rays_agree_and_sah_beats_median() {
+    if common::skip_without_shared("shared_bunny_validates_rays_agree_and_sah_beats_median") {
+        return;
+    }
     let tris = load_obj("stanford-bunny/bunny.obj");
     let (boxes, centroids) = tri_boxes(&tris);
     let config = BuildConfig::default();
@@ -629,7 +637,10 @@ fn validate_rejects_broken_trees() {
 
 #[test]
 #[ignore = "large scenes; run in release to measure"]
-fn report_build_times_on_large_scenes() {
+fn shared_report_build_times_on_large_scenes() {
+    if common::skip_without_shared("shared_report_build_times_on_large_scenes") {
+        return;
+    }
     for rel in ["conference/conference.obj", "sponza-dabrovic/sponza.obj"] {
         let tris = load_obj(rel);
         let (boxes, centroids) = tri_boxes(&tris);

@@ -167,7 +167,10 @@ fn lab_box_ver_path_area_lights() {
 }
 
 #[test]
-fn lab_white_oak() {
+fn shared_lab_white_oak() {
+    if common::skip_without_shared("shared_lab_white_oak") {
+        return;
+    }
     let s = load(&shared("lab/white_oak/white_oak.yaml"));
     assert_eq!(s.triangles.len() + s.stats.dropped_degenerate, 36_760);
     assert_eq!(s.triangles.len(), 36_760);
@@ -192,7 +195,10 @@ fn lab_white_oak() {
 }
 
 #[test]
-fn lab_bunny_scale_translation() {
+fn shared_lab_bunny_scale_translation() {
+    if common::skip_without_shared("shared_lab_bunny_scale_translation") {
+        return;
+    }
     let s = load(&shared("lab/bunny/bunny.yaml"));
     assert_eq!(s.triangles.len() + s.stats.dropped_degenerate, 69_451);
     assert_eq!(s.lights, vec![Light::Directional { direction: Vec3::ONE.normalize(), intensity: Vec3::ONE }]);
@@ -214,7 +220,10 @@ fn lab_bunny_scale_translation() {
 }
 
 #[test]
-fn lab_teapot_and_floor() {
+fn shared_lab_teapot_and_floor() {
+    if common::skip_without_shared("shared_lab_teapot_and_floor") {
+        return;
+    }
     let t = load(&shared("lab/teapot/teapot.yaml"));
     assert_eq!(t.triangles.len() + t.stats.dropped_degenerate, 4_032);
     let m = material_named(&t, "teapot");
@@ -257,7 +266,10 @@ fn cornell_measured_yaml_and_obj() {
 // ---------------------------------------------------------------- shared OBJ scenes
 
 #[test]
-fn cornell_box_variants_negative_indices_and_quads() {
+fn shared_cornell_box_variants_negative_indices_and_quads() {
+    if common::skip_without_shared("shared_cornell_box_variants_negative_indices_and_quads") {
+        return;
+    }
     let expected = [
         ("Original", 36),
         ("Sphere", 2188),
@@ -298,7 +310,10 @@ fn cornell_box_variants_negative_indices_and_quads() {
 }
 
 #[test]
-fn embree_cornell_box_without_ke_gets_default_light() {
+fn shared_embree_cornell_box_without_ke_gets_default_light() {
+    if common::skip_without_shared("shared_embree_cornell_box_without_ke_gets_default_light") {
+        return;
+    }
     // Its `light` material has only `Ka 20 20 20`: no emitter, so the bare-OBJ light is added.
     let s = load(&shared("cornell-box-embree/cornell_box.obj"));
     assert_eq!(s.triangles.len() + s.stats.dropped_degenerate, 36);
@@ -307,7 +322,10 @@ fn embree_cornell_box_without_ke_gets_default_light() {
 }
 
 #[test]
-fn scanned_models_with_tr_are_not_transparent() {
+fn shared_scanned_models_with_tr_are_not_transparent() {
+    if common::skip_without_shared("shared_scanned_models_with_tr_are_not_transparent") {
+        return;
+    }
     // dragon.mtl has `Tr 1` next to `d 1`; Tr must not be read as transparency.
     let s = load(&shared("stanford-dragon-100k/dragon.obj"));
     assert_eq!(s.triangles.len() + s.stats.dropped_degenerate, 100_000);

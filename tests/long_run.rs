@@ -8,7 +8,10 @@ use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::path::{self, Hooks};
 
 #[test]
-fn thousands_of_batches_produce_no_nan_or_inf() {
+fn shared_thousands_of_batches_produce_no_nan_or_inf() {
+    if common::skip_without_shared("shared_thousands_of_batches_produce_no_nan_or_inf") {
+        return;
+    }
     let ctx = common::gpu_context();
     let mut total_batches = 0;
     for (name, batches) in [("CornellBox-Water.obj", 1000u64), ("CornellBox-Sphere.obj", 1000), ("CornellBox-Glossy.obj", 1000)] {

@@ -299,48 +299,65 @@ fn max_abs_diff(a: &Image, b: &Image) -> f32 {
     a.pixels.iter().zip(&b.pixels).flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs())).fold(0.0, f32::max)
 }
 
+/// A scene of the repository's `scenes/`.
 fn load(rel: &str) -> Scene {
-    vkrt::scene::load_scene(&common::shared_path(rel)).unwrap()
+    vkrt::scene::load_scene(&common::repo_path(rel)).unwrap()
 }
 
-/// The shader specialised to a scene and the all-features shader give the same image (within
-/// 1e-5 absolute: the same arithmetic, only dead branches removed) on scenes using each feature.
+/// Whitted and path-traced images of `scene` from the specialised and the all-features shader
+/// agree within 1e-5 absolute (the same arithmetic, only dead branches removed).
+fn assert_specialised_matches_all_features(name: &str, scene: &Scene) {
+    let w_spec = whitted_image(scene, LayoutKind::Threaded, (32, 32), false);
+    let w_all = whitted_image(scene, LayoutKind::Threaded, (32, 32), true);
+    let d = max_abs_diff(&w_spec, &w_all);
+    assert!(d <= 1e-5, "{name}: Whitted specialised vs all-features differ by {d}");
+    let p_spec = path_image(scene, (32, 32), 2, Some(5), false);
+    let p_all = path_image(scene, (32, 32), 2, Some(5), true);
+    let d = max_abs_diff(&p_spec, &p_all);
+    assert!(d <= 1e-5, "{name}: path specialised vs all-features differ by {d}");
+}
+
+/// The shader specialised to a scene and the all-features shader give the same image on
+/// scenes that together use every feature.
 #[test]
 fn specialised_and_all_features_shaders_agree() {
     let mut scenes: Vec<(&str, Scene)> = vec![
         ("cut-outs + textures", shadow_scene()),
         ("sky box", sky_scene(Vec3::X, Vec3::Y)),
-        ("lab floor: texture, glossy, point light", load("scenes/lab/floor/floor.yaml")),
         ("lab Box_ver_path: emitters", load("scenes/lab/Box_ver_path/Box_ver_path.yaml")),
         ("lab cornell_box: point light", load("scenes/lab/cornell_box/cornell_box.yaml")),
     ];
-    // Mirror, glass and a spot light.
+    // Mirror, glass, a glossy lobe and a spot light.
     let mut special = load("scenes/lab/cornell_box/cornell_box.yaml");
     let n = special.materials.len();
     special.materials.push(Material { name: "mirror".into(), specular: Vec3::splat(0.9), illum: 3, ..Material::default() });
     special.materials.push(Material { name: "glass".into(), illum: 7, ..Material::default() });
+    special.materials.push(Material { name: "glossy".into(), specular: Vec3::splat(0.3), shininess: 40.0, ..Material::default() });
     for (k, t) in special.triangles.iter_mut().enumerate() {
-        if k % 7 == 0 {
-            t.material = n as u32 + (k % 2) as u32;
+        if k % 5 == 0 {
+            t.material = n as u32 + (k % 3) as u32;
         }
     }
     let b = special.bounds();
     special.lights.push(Light::Spot { position: b.center(), direction: -Vec3::Y, intensity: Vec3::ONE, radius: 0.1 * b.extent().length() });
-    scenes.push(("mirror, glass, spot light", special));
+    scenes.push(("mirror, glass, glossy, spot light", special));
     for (name, scene) in &scenes {
-        let w_spec = whitted_image(scene, LayoutKind::Threaded, (32, 32), false);
-        let w_all = whitted_image(scene, LayoutKind::Threaded, (32, 32), true);
-        let d = max_abs_diff(&w_spec, &w_all);
-        assert!(d <= 1e-5, "{name}: Whitted specialised vs all-features differ by {d}");
-        let p_spec = path_image(scene, (32, 32), 2, Some(5), false);
-        let p_all = path_image(scene, (32, 32), 2, Some(5), true);
-        let d = max_abs_diff(&p_spec, &p_all);
-        assert!(d <= 1e-5, "{name}: path specialised vs all-features differ by {d}");
+        assert_specialised_matches_all_features(name, scene);
     }
     // Every feature is on in at least one scene, so each one's removal is covered.
     for f in vkrt::prepare::features::ALL {
         assert!(scenes.iter().any(|(_, s)| vkrt::prepare::features::Features::of(s).has(f)), "no scene uses {}", f.name);
     }
+}
+
+/// The same on the course's floor scene (a texture, a glossy lobe, a point light). Needs
+/// `../shared`: skipped, saying so, where it is absent.
+#[test]
+fn shared_lab_floor_specialised_and_all_features_agree() {
+    let test = "shared_lab_floor_specialised_and_all_features_agree";
+    let Some(path) = common::shared_or_skip(test, "scenes/lab/floor/floor.yaml") else { return };
+    let floor = vkrt::scene::load_scene(&path).unwrap();
+    assert_specialised_matches_all_features("lab floor", &floor);
 }
 
 #[test]
@@ -394,8 +411,10 @@ fn a_png_texture_loads_through_the_obj_loader_with_its_alpha_as_a_cut_out() {
 /// The lab scenes' textured cases, small: White Oak's leaves are cut out (more background shows
 /// through the crown than with the leaf quads opaque), and the lab floor shows its wood texture.
 #[test]
-fn lab_white_oak_leaves_are_cut_out_and_the_floor_is_textured() {
-    let oak = load("scenes/lab/white_oak/white_oak.yaml");
+fn shared_lab_white_oak_leaves_are_cut_out_and_the_floor_is_textured() {
+    let test = "shared_lab_white_oak_leaves_are_cut_out_and_the_floor_is_textured";
+    let Some(path) = common::shared_or_skip(test, "scenes/lab/white_oak/white_oak.yaml") else { return };
+    let oak = vkrt::scene::load_scene(&path).unwrap();
     let mut opaque = oak.clone();
     for m in &mut opaque.materials {
         m.alpha_texture = None;
@@ -406,7 +425,7 @@ fn lab_white_oak_leaves_are_cut_out_and_the_floor_is_textured() {
     let (b_cut, b_solid) = (background(&cut), background(&solid));
     assert!(b_cut > b_solid + 64, "background pixels: {b_cut} with cut-outs, {b_solid} without");
 
-    let floor = load("scenes/lab/floor/floor.yaml");
+    let floor = vkrt::scene::load_scene(&common::shared_path("scenes/lab/floor/floor.yaml")).unwrap();
     let img = whitted_image(&floor, LayoutKind::Threaded, (32, 24), false);
     // Wood: red above green above blue, and the planks vary from pixel to pixel.
     let lit: Vec<&[f32; 3]> = img.pixels.iter().filter(|p| p[0] > 0.0).collect();

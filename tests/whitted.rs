@@ -123,3 +123,22 @@ fn glass_slab_transmits_by_fresnel_at_normal_incidence() {
     // Depth 2 cannot reach the emitter through two interfaces.
     assert_close("glass, depth 2", centre_pixel(&s, 2), [0.0; 3], 0.0);
 }
+
+/// The ray tree lives on a fixed stack: depths 1 to whitted::MAX_DEPTH render, others are an
+/// error that names the limit (it used to clamp them silently while reporting the depth asked for).
+#[test]
+fn depths_outside_the_stack_are_refused_by_name() {
+    let scene = common::procedural::random_soup(20, 5);
+    let ctx = common::gpu_context();
+    let gpu = common::upload(&ctx, &scene);
+    for (depth, ok) in [(0, false), (1, true), (whitted::MAX_DEPTH, true), (whitted::MAX_DEPTH + 1, false)] {
+        let settings = RenderSettings { width: 4, height: 4, max_depth: depth, ..RenderSettings::default() };
+        match whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}) {
+            Ok(_) => assert!(ok, "depth {depth} rendered"),
+            Err(e) => {
+                assert!(!ok, "depth {depth} refused: {e:#}");
+                assert!(format!("{e:#}").contains(&format!("1 to {}", whitted::MAX_DEPTH)), "{e:#}");
+            }
+        }
+    }
+}

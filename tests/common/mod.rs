@@ -43,6 +43,13 @@ pub fn shared_or_skip(test: &str, rel: &str) -> Option<std::path::PathBuf> {
     None
 }
 
+/// True, after printing why, when `../shared` (the shared test data beside the repository) is
+/// absent: a test that needs it is named `shared_*` and returns at once then, so that `cargo
+/// test` passes in a bare clone; CI, which has the data, runs it.
+pub fn skip_without_shared(test: &str) -> bool {
+    shared_or_skip(test, "scenes").is_none()
+}
+
 /// The SPIR-V of a test probe (host/pipeline/variants.rs, role Probe): built by host/build.rs
 /// into `$OUT_DIR/probes/`, never embedded in the library.
 pub fn probe_spirv(name: &str) -> Vec<u8> {
