@@ -21,7 +21,7 @@ use glam::Vec3;
 /// - `Spot`: radiant intensity `intensity * 4 pi r^2 * max(0, cos)` (the lab estimator's
 ///   numerator, cos measured from `direction`); E = that cos_surface / d^2.
 /// - Emissive triangles: radiance Ke from the front face, sampled by area.
-/// All are picked for light sampling in proportion to their power (`integrator::light_table`).
+/// All are picked for light sampling in proportion to their power (`prepare::light_table`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
     Point { position: Vec3, intensity: Vec3 },

@@ -1,6 +1,6 @@
 //! Decoded textures: 8-bit RGBA texels, row 0 the top row of the image file.
 //!
-//! The shaders read them from one texel buffer (`layout::texture_atlas`), filter bilinearly with
+//! The shaders read them from one texel buffer (`prepare::texture_atlas`), filter bilinearly with
 //! repeat wrapping and decode sRGB there (shaders/include/texture.glsl), so the host keeps the
 //! file's bytes untouched: decoding before filtering is what the lab renderer does.
 
