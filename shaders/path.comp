@@ -96,8 +96,8 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp) {
             // Surviving with the throughput itself (q = t, PBRT's and Mitsuba's choice) cuts
             // most paths at once at rr_depth (t is ~0.2 there in a white box), and their
             // boosted survivors cost more variance than the saved rays buy: on cornell-measured
-            // sqrt(t) gave 12 % less relMSE per sample for ~7 % more time (BENCHMARKS.md,
-            // "Russian roulette"). Either way a survivor's throughput t / q then tends to the
+            // sqrt(t) gave 12 % less relMSE per sample for ~7 % more time (docs/experiments/
+            // russian-roulette.md). Either way a survivor's throughput t / q then tends to the
             // albedo a, and q to a: path lengths stay bounded alike.
             float q = min(sqrt(max3(throughput)), 0.95);
             if (sampler_1d(smp) >= q) break;

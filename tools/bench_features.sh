@@ -1,6 +1,7 @@
 #!/bin/sh
 # Render time of the shader specialised to each scene against the all-features shader, for both
-# integrators (BENCHMARKS.md, "Textures, sky boxes and per-scene specialisation").
+# integrators (measured in BENCHMARKS.md's "Textures, sky boxes and per-scene specialisation" section,
+# dropped from it in b773538: `git show b773538^:BENCHMARKS.md`).
 # Usage: tools/bench_features.sh [vkrt binary]   (default: target/release/vkrt)
 # Prints one line per scene x integrator: render seconds specialised, all-features, speed-up.
 set -eu

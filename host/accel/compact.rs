@@ -7,7 +7,7 @@
 //! The price: boxes are rounded outwards to a 16-bit grid over the scene, so small boxes grow
 //! by up to one grid cell per side (on the shared scenes rays visit within 0.1 node of the
 //! threaded layout), and decoding a box costs ~30 instructions. Measured on lavapipe the decode
-//! outweighs the saved fetch: 10-20 % slower than threaded (BENCHMARKS.md, "Per-step cost").
+//! outweighs the saved fetch: 10-20 % slower than threaded (docs/experiments/per-step-cost.md).
 //!
 //! Encoding (`GpuCompactNode`): the box corners as 16-bit cell indices of a per-scene grid,
 //! `corner = origin + q * scale` (the grid goes to the shader in the push constants), and one
@@ -137,7 +137,7 @@ impl NodeArray for Compact {
     fn bytes(&self) -> &[u8] {
         bytemuck::cast_slice(&self.nodes)
     }
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.nodes.len()
     }
     fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {

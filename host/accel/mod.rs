@@ -32,7 +32,7 @@ pub trait NodeArray: std::fmt::Debug + Send + Sync {
     /// The node array as uploaded to the GPU (`BINDING_NODES`).
     fn bytes(&self) -> &[u8];
     /// Entries in the node array (for the multi-order layout, all six orders).
-    fn len(&self) -> usize;
+    fn count(&self) -> usize;
     /// The CPU twin of this layout's `traverse`: same hit, same counters.
     fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit;
     /// Writes what this layout's shader reads from the push constants besides the node count
@@ -53,7 +53,7 @@ impl FlatBvh {
         self.nodes.kind()
     }
     pub fn node_count(&self) -> usize {
-        self.nodes.len()
+        self.nodes.count()
     }
     /// Bytes the node and triangle arrays occupy on the GPU.
     pub fn bytes(&self) -> usize {

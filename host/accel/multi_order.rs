@@ -32,7 +32,7 @@ impl NodeArray for MultiOrder {
     fn bytes(&self) -> &[u8] {
         bytemuck::cast_slice(&self.0)
     }
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.0.len()
     }
     fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {

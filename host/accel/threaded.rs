@@ -26,7 +26,7 @@ impl NodeArray for Threaded {
     fn bytes(&self) -> &[u8] {
         bytemuck::cast_slice(&self.0)
     }
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.0.len()
     }
     fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {

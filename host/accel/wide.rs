@@ -3,7 +3,7 @@
 //!
 //! Why it was built: the per-step profile of the binary walks on lavapipe suggested that a
 //! step costs more in loop overhead, texel-fetch calls and the reloads after them than in its
-//! one box test (BENCHMARKS.md, "Per-step cost"); the result below says how far that held.
+//! one box test (docs/experiments/per-step-cost.md); the result below says how far that held.
 //! A wide node puts four child boxes in one visit, so a ray makes fewer, fatter steps: the
 //! multi-BVH idea of CPU ray tracers (Dammertz, Hanika & Keller 2008; Wald, Benthin & Boulos
 //! 2008), here for the lockstep lanes of a SIMT shader rather than for SIMD across the boxes.
@@ -28,12 +28,12 @@
 //! again. Áfra & Szirmay-Kalos 2014 ("Stackless multi-BVH traversal for CPU, MIC and GPU ray
 //! tracing") avoid that with a bitmask per level; such a trail (16 levels of 4-bit masks,
 //! re-entering only after a closer hit) was built and measured here: 22-28 % fewer visits, no
-//! faster on lavapipe, so the simpler walk stayed (BENCHMARKS.md, "Wide BVH").
+//! faster on lavapipe, so the simpler walk stayed (docs/experiments/wide-bvh.md).
 //!
 //! **Result on lavapipe:** a ray makes 2.6-3.5x fewer visits than the threaded walk's box
 //! tests, but a visit (eight texel fetches, four box tests) costs about as much as three
 //! threaded steps, so the layout runs at 0.65-0.89x of threaded on `vkrt trace` and takes 1.37x
-//! the time in the path tracer (BENCHMARKS.md, "Wide BVH"). It is kept for devices where fetches are cheap relative to loop steps.
+//! the time in the path tracer (docs/experiments/wide-bvh.md). It is kept for devices where fetches are cheap relative to loop steps.
 //!
 //! Counters: `nodes_visited` counts wide-node visits (each tests up to four boxes), so it is
 //! not comparable one for one with the binary layouts' box tests.
@@ -61,7 +61,7 @@ impl NodeArray for Wide {
     fn bytes(&self) -> &[u8] {
         bytemuck::cast_slice(&self.0)
     }
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.0.len()
     }
     fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {

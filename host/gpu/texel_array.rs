@@ -1,6 +1,6 @@
 //! An array the shaders read through a uniform texel buffer (`utextureBuffer` + `texelFetch`)
 //! rather than a storage buffer: on lavapipe that turns a per-lane gather of scalar loads into
-//! one vector load per lane and texel (BENCHMARKS.md, "Loads on lavapipe").
+//! one vector load per lane and texel (docs/experiments/texel-buffer-loads.md).
 
 use super::buffer::{Buffer, TexelFormat, TexelView};
 use super::Context;

@@ -1,7 +1,7 @@
 //! The order a batch of rays is traced in. On a SIMD device (lavapipe's 8 lanes, a GPU's warp)
 //! the lanes of a subgroup walk the BVH in lockstep, so a subgroup of rays that go different
 //! ways runs the union of their walks: on Conference's incoherent rays a subgroup runs 2.2x
-//! the node steps and 7x the triangle tests one ray needs (BENCHMARKS.md, "Per-step cost").
+//! the node steps and 7x the triangle tests one ray needs (docs/experiments/per-step-cost.md).
 //! Sorting such a batch so that neighbouring rays start near each other and point the same
 //! way lines the lanes up again (ray reordering: Pharr et al. 1997, "Rendering complex scenes
 //! with memory-coherent ray tracing"; Garanzha & Loop 2010, "Fast ray sorting and
@@ -30,7 +30,7 @@ pub enum RayOrder {
 /// Bits per axis of the octahedral direction cell (16 x 16 cells over the sphere).
 const DIRECTION_BITS: u32 = 4;
 /// Bits per axis of the origin's Morton code, over the batch's origin bounds (16^3 cells).
-/// Finer keys sorted no better (BENCHMARKS.md, "Ray reordering"), and 20 bits sort in two
+/// Finer keys sorted no better (docs/experiments/ray-reordering.md), and 20 bits sort in two
 /// radix passes.
 const ORIGIN_BITS: u32 = 4;
 /// Leading key bits two rays must share to count as coherent neighbours: the direction cell

@@ -19,7 +19,7 @@ pub const RAYS_PER_BATCH: usize = 1 << 16;
 
 /// Rays sorted together when a batch is reordered ([`ray_order`]): on Conference's incoherent
 /// rays, sorting within 64k-ray windows kept little of the gain, 256k most of it
-/// (BENCHMARKS.md, "Ray reordering"). `vkrt trace` hands over 1M rays at a time.
+/// (docs/experiments/ray-reordering.md). `vkrt trace` hands over 1M rays at a time.
 pub const ORDER_WINDOW: usize = 1 << 20;
 
 /// A ray-query pipeline for one uploaded scene (the `trace` variant for its layout) and its

@@ -23,7 +23,7 @@ pub fn primary(scene: &Scene, width: u32, height: u32) -> Result<Vec<GpuRay>> {
 }
 
 /// Incoherent rays: origins uniform in the scene bounds, directions uniform on the sphere (the
-/// distribution of the tinybvh and Embree comparisons in BENCHMARKS.md).
+/// distribution of the tinybvh and Embree comparisons in docs/experiments/).
 pub fn incoherent(scene: &Scene, count: usize, seed: u64) -> Vec<GpuRay> {
     let b = scene.bounds();
     let mut rng = Pcg32::new(seed);

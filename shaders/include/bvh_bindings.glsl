@@ -2,8 +2,8 @@
 // (`load_node`) is in its traverse_<id>.glsl.
 //
 // Nodes and triangles are bound as RGBA32UI uniform texel buffers and read with texelFetch,
-// not as storage buffers, because on lavapipe that is what the loads cost (BENCHMARKS.md,
-// "Loads on lavapipe"):
+// not as storage buffers, because on lavapipe that is what the loads cost (docs/experiments/
+// texel-buffer-loads.md):
 // - Mesa 25's gallivm (lp_bld_nir_soa.c, emit_load_mem) loads a storage buffer at a per-lane
 //   index one lane and one dword at a time, each behind a branch on the lane mask and another
 //   on the bounds check: 64 branchy scalar loads for one 32-byte node across 8 lanes.

@@ -58,8 +58,8 @@ RayPre ray_pre(vec3 origin, vec3 dir, float tmin, float tmax) {
 // Minimum and maximum as compare-and-select: one vminps/vmaxps each on x86. GLSL's min() and
 // max() must return the non-NaN operand, which lavapipe compiles to a min, an unordered
 // compare and a masked move: the slab test's 14 min/max took ~20 of the ~130 instructions of
-// a traversal step, and the path tracer ran ~5 % faster without them (BENCHMARKS.md,
-// "Per-step cost"). With a NaN operand these return b. CPU twin: accel::intersect::sel_min/max.
+// a traversal step, and the path tracer ran ~5 % faster without them (docs/experiments/
+// per-step-cost.md). With a NaN operand these return b. CPU twin: accel::intersect::sel_min/max.
 float sel_min(float a, float b) { return a < b ? a : b; }
 float sel_max(float a, float b) { return a > b ? a : b; }
 vec3 sel_min(vec3 a, vec3 b) { return mix(b, a, lessThan(a, b)); }

@@ -26,8 +26,8 @@ uint owen_scramble(uint x, uint seed) {
 // reversal of the index (van der Corput), it forms a (0,2)-sequence.
 //
 // Closed form instead of a loop over the index's bits (which ran up to 32 times per call on a
-// scrambled index and took ~7 % of the path tracer's time, BENCHMARKS.md "Per-step
-// cost"): v_k is (1 + s)^k applied to the top bit, s a right shift, so the sum over the set
+// scrambled index and took ~7 % of the path tracer's time, docs/experiments/
+// per-step-cost.md): v_k is (1 + s)^k applied to the top bit, s a right shift, so the sum over the set
 // bits b_k of the index is the polynomial B(t) = sum b_k t^k evaluated at t = 1 + s: a Taylor
 // shift by 1 over GF(2). Since (1 + s)^(2^m) = 1 + s^(2^m) there, it splits into halves,
 // B = L + t^(2^m) H -> L(1+s) + H(1+s) + s^(2^m) H(1+s), one shift-and-xor per level, five levels

@@ -1,7 +1,7 @@
 // The scene arrays the integrators read besides the BVH, and the frame uniform.
 //
 // The arrays are uniform texel buffers read with texelFetch, like the BVH's and for the same
-// reason (bvh_bindings.glsl; BENCHMARKS.md, "Loads on lavapipe"): lavapipe loads a storage
+// reason (bvh_bindings.glsl; docs/experiments/texel-buffer-loads.md): lavapipe loads a storage
 // buffer at a per-lane index one lane and one dword at a time behind branches, a texel fetch
 // with one vector load per lane. The structs are RGBA32UI texels, and each load_* decodes one
 // from consecutive texels in the std430 field order of gpu_abi.glsl (float fields bit-cast,

@@ -20,8 +20,8 @@
 //! alternates between two bin grids on large nodes, because neighbouring primitives mostly land
 //! in the same bin and each update would wait for the previous one's store. Against 16 bins
 //! everywhere this builds Conference about 1.6x faster at SAH 44.5 instead of 44.3 (8 bins
-//! everywhere would be 52.7: the top of the tree needs the finer planes). BENCHMARKS.md has the
-//! numbers.
+//! everywhere would be 52.7: the top of the tree needs the finer planes). docs/experiments/bvh-builders.md
+//! has the numbers.
 //!
 //! The knobs, all in [`BuildConfig`]:
 //! - `sah_bins` (default 16, clamped to 2..=256 here; nodes of at most 64 primitives use

@@ -2,7 +2,7 @@
 //! a row: whole coherence blocks, `super::PathSettings::coherence`, at least a workgroup row wide)
 //! takes samples in proportion to the relative noise the pilot showed around it, so that the
 //! mean relMSE, which is what `vkrt compare` and the time-to-error benchmark measure, falls
-//! faster for the same number of samples (BENCHMARKS.md, "Adaptive sampling").
+//! faster for the same number of samples (docs/experiments/adaptive-sampling.md).
 //!
 //! Unbiased by construction: a block's rate is computed from the pilot samples of the pixels
 //! around it, never from its own, and every pixel's pilot takes the same count. Blocks draw

@@ -59,8 +59,8 @@ pub struct PathSettings {
     /// light and roulette decisions at neighbouring points, so their rays stay coherent and
     /// their paths end together. Each pixel's estimate is distributed as before, so the
     /// expected error per pixel is the same; the errors of a block's pixels are correlated,
-    /// which shows as short horizontal streaks in the noise (BENCHMARKS.md, "Coherent
-    /// sampling").
+    /// which shows as short horizontal streaks in the noise (docs/experiments/
+    /// coherent-sampling.md).
     pub coherence: u32,
     /// Adaptive sampling ([`adaptive`]): after a uniform pilot of `PILOT_SPP`, each
     /// block (a workgroup row, or whole coherence blocks) takes samples in proportion to the
