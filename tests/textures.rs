@@ -321,8 +321,12 @@ fn assert_specialised_matches_all_features(name: &str, scene: &Scene) {
 /// scenes that together use every feature.
 #[test]
 fn specialised_and_all_features_shaders_agree() {
+    // The shadow scene with its caster's mask as a diffuse texture too.
+    let mut textured = shadow_scene();
+    textured.materials[0].diffuse_texture = Some(0);
     let mut scenes: Vec<(&str, Scene)> = vec![
-        ("cut-outs + textures", shadow_scene()),
+        ("cut-outs", shadow_scene()),
+        ("cut-outs + diffuse texture", textured),
         ("sky box", sky_scene(Vec3::X, Vec3::Y)),
         ("lab Box_ver_path: emitters", load("scenes/lab/Box_ver_path/Box_ver_path.yaml")),
         ("lab cornell_box: point light", load("scenes/lab/cornell_box/cornell_box.yaml")),

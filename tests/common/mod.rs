@@ -39,7 +39,10 @@ pub fn shared_or_skip(test: &str, rel: &str) -> Option<std::path::PathBuf> {
     if path.exists() {
         return Some(path);
     }
-    eprintln!("SKIPPED {test}: needs {} (the shared test data beside the repository), which is absent", path.display());
+    // Written to the stderr handle, not through eprintln!, which the test harness captures: the
+    // reason shows in the test log even when the test passes.
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "SKIPPED {test}: needs {} (the shared test data beside the repository), which is absent", path.display());
     None
 }
 
