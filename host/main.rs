@@ -1,11 +1,29 @@
 //! The `vkrt` binary: parses the command line and reports errors with their context.
 
+use clap::error::ErrorKind;
 use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
     restore_default_sigpipe();
-    let cli = vkrt::cli::Cli::parse();
+    let cli = match vkrt::cli::Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => match e.kind() {
+            ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+            // A bad flag or value is an error like any other: the message (without clap's usage
+            // reminder), exit status 1.
+            _ => {
+                let text = e.to_string();
+                let message: Vec<&str> = text
+                    .lines()
+                    .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+                    .filter(|l| !l.trim().is_empty())
+                    .collect();
+                eprintln!("{}", message.join("\n"));
+                return ExitCode::FAILURE;
+            }
+        },
+    };
     vkrt::error::exit_code(vkrt::cli::run(cli))
 }
 

@@ -26,7 +26,8 @@ layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 
 // Light sampling at surface s: one light, one point on it, weighted against BSDF sampling.
-vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler smp) {
+// `rays` counts the shadow ray if one is traced.
+vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler smp, inout uint rays) {
     vec2 u = sampler_2d(smp);
     LightSample ls;
     if (!sample_light(s.p, origin, u, ls)) return vec3(0.0);
@@ -36,13 +37,15 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler s
     float bsdf_pdf;
     vec3 fr = bsdf_eval(l, wo, wi, bsdf_pdf);
     if (all(equal(fr, vec3(0.0)))) return vec3(0.0);
+    rays++;
     if (occluded(origin, ls.span, 0.0, ls.span_tmax)) return vec3(0.0);
     // Delta lights (pdf 0) cannot be hit by BSDF sampling: their weight is 1.
     float w = ls.pdf > 0.0 ? power_heuristic(ls.pdf, bsdf_pdf) : 1.0;
     return fr * wi.z * ls.li_over_pdf * w;
 }
 
-vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp) {
+// The radiance along the camera ray (origin, dir); `rays` counts the rays traced for it.
+vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
     vec3 throughput = vec3(1.0);
     vec3 result = vec3(0.0);
     bool nee = params.nee != 0u;
@@ -50,6 +53,7 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp) {
     float prev_pdf = 0.0;
     bool prev_delta = true;
     for (uint depth = 0u;; depth++) {
+        rays++;
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) {
             // No light sampling picks the sky, so BSDF sampling gets it all (MIS weight 1).
@@ -75,7 +79,7 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp) {
         Onb f = onb_from(s.ns);
         vec3 wo = to_local(f, -dir);
         vec3 up = offset_ray(s.p, s.ng, frame.scene_scale);
-        if (nee && has_smooth_lobes(l)) result += throughput * next_event(s, l, f, wo, up, smp);
+        if (nee && has_smooth_lobes(l)) result += throughput * next_event(s, l, f, wo, up, smp, rays);
         float u_lobe = sampler_1d(smp);
         vec2 u = sampler_2d(smp);
         BsdfSample bs;
@@ -119,11 +123,12 @@ void main() {
     vec3 sum = vec3(0.0);
     vec3 sum_even = vec3(0.0);
     float dropped = 0.0;
+    uint rays = 0u;
     for (uint k = 0u; k < samples.y; k++) {
         uint sample_index = samples.x + k;
         Sampler smp = sampler_init(params.sampler_kind, key, sample_index, frame.seed, params.sample_rate);
         vec3 dir = camera_ray_direction(frame, vec2(pixel) + sampler_pixel(smp));
-        vec3 c = radiance(frame.cam_origin, dir, smp);
+        vec3 c = radiance(frame.cam_origin, dir, smp, rays);
         // NaN and Inf never enter the accumulation buffers: count them instead.
         if (any(isnan(c)) || any(isinf(c))) {
             dropped += 1.0;
@@ -134,4 +139,5 @@ void main() {
     }
     accum[index] += vec4(sum, dropped);
     accum_even[index] += vec4(sum_even, float(samples.y));
+    ray_counts[index] += rays;
 }

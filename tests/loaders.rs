@@ -449,8 +449,10 @@ fn obj_empty_and_triangle_free_files() {
 
 #[test]
 fn obj_binary_and_wrong_encodings() {
-    // Random-looking bytes: invalid UTF-8 on the second line.
-    bad_obj("garbage", b"v 0 0 0\n\x89PNG\r\n\x1a\n\x00\x00\xff\xfe", "line 2");
+    // A PNG's header after a vertex: its first control character (^Z) is on line 3. (Bytes
+    // that are only not UTF-8 are read as Latin-1 instead: obj_names_in_latin1_still_match.)
+    let t = bad_obj("garbage", b"v 0 0 0\n\x89PNG\r\n\x1a\n\x00\x00\xff\xfe", "line 3");
+    assert!(t.contains("binary"), "{t}");
     // Valid UTF-8 but with NUL bytes.
     bad_obj("nul", b"v 0 0 0\nv 1 0 0\nv\x000 1 0\n", "line 3");
     // UTF-16 (little endian, with BOM), as Windows Notepad writes it.

@@ -117,7 +117,7 @@ fn trace_command_matches_brute_force_for_every_layout() {
         let args = TraceArgs {
             scene: scene_path.clone(),
             rays: rays_path.clone(),
-            out: out.clone(),
+            output: out.clone(),
             builder: BuilderKind::Reinsertion,
             layout,
             any_hit: false,

@@ -57,6 +57,16 @@ pub enum BuilderKind {
 impl BuilderKind {
     /// Every builder, fastest build first.
     pub const ALL: [BuilderKind; 4] = [BuilderKind::Median, BuilderKind::Sah, BuilderKind::SweepSah, BuilderKind::Reinsertion];
+
+    /// The name on the command line (`--builder`) and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            BuilderKind::Median => "median",
+            BuilderKind::Sah => "sah",
+            BuilderKind::SweepSah => "sweep-sah",
+            BuilderKind::Reinsertion => "reinsertion",
+        }
+    }
 }
 
 /// Settings shared by the builders.
@@ -90,6 +100,20 @@ pub fn build(kind: BuilderKind, boxes: &[Aabb], centroids: &[glam::Vec3], config
         BuilderKind::Reinsertion => {
             let tree = build::sweep_sah::build(boxes, centroids, config);
             build::reinsertion::optimize(tree, config)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::ValueEnum;
+
+    /// Reports spell builders as the flag does.
+    #[test]
+    fn names_are_the_flag_values() {
+        for b in BuilderKind::ALL {
+            assert_eq!(b.to_possible_value().map(|v| v.get_name().to_string()).as_deref(), Some(b.name()));
         }
     }
 }

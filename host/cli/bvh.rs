@@ -32,11 +32,13 @@ pub struct BvhArgs {
     /// Scene files (.obj or lab .yaml).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
+    /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
     /// Primary rays: one per pixel of a WIDTH x HEIGHT camera image (also the heat map's size).
     #[arg(long, default_value_t = 384)]
     pub width: u32,
+    /// Height of the primary-ray image (and the heat map).
     #[arg(long, default_value_t = 384)]
     pub height: u32,
     /// Builds timed per builder; the best is reported (single-threaded).
@@ -44,11 +46,12 @@ pub struct BvhArgs {
     pub repeat: u32,
     /// Write nodes visited per pixel of the primary rays as a PNG heat map with a legend; with
     /// several scenes, one file each, named OUT-SCENE.png.
-    #[arg(long)]
+    #[arg(long, value_name = "OUT.png")]
     pub heatmap: Option<PathBuf>,
-    /// Builder and layout the heat map shows.
+    /// Builder the heat map shows.
     #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
     pub heatmap_builder: BuilderKind,
+    /// Layout the heat map shows.
     #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
     pub heatmap_layout: LayoutKind,
     /// Only these builders (default: all).
@@ -132,7 +135,7 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
             tree = bvh::build(builder, &boxes, &centroids, &config);
             build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
         }
-        validate(&tree, &boxes).map_err(|e| anyhow!("{builder:?} tree of {name} is invalid: {e}"))?;
+        validate(&tree, &boxes).map_err(|e| anyhow!("{} tree of {name} is invalid: {e}", builder.name()))?;
         let s = stats(&tree);
         for &layout in &layouts {
             let flat = accel::flatten(&tree, &scene.triangles, layout)?;
@@ -148,7 +151,7 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
                     let out = heatmap_path(out, path, args.scenes.len() > 1);
                     let counts: Vec<u32> = hits.iter().map(|h| h.nodes_visited).collect();
                     heatmap::write(&out, &counts, args.width, args.height)?;
-                    eprintln!("heat map of nodes visited ({builder:?} / {}): {}", layout.name(), out.display());
+                    eprintln!("heat map of nodes visited ({} / {}): {}", builder.name(), layout.name(), out.display());
                 }
             }
             rows.push(Row {
@@ -206,7 +209,7 @@ fn values(r: &Row) -> [String; 17] {
     [
         r.scene.clone(),
         r.triangles.to_string(),
-        format!("{:?}", r.builder),
+        r.builder.name().to_string(),
         r.layout.name().to_string(),
         f1(r.build_ms),
         r.nodes.to_string(),

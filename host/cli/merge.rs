@@ -1,37 +1,51 @@
-//! `vkrt merge`: adds checkpoints of runs with different seeds into one image or checkpoint.
+//! `vkrt merge`: adds checkpoints of runs with different seeds into one image or checkpoint;
+//! one checkpoint alone becomes its image.
 
+use super::render::DisplayArgs;
 use crate::integrator::path::checkpoint::Checkpoint;
 use crate::output;
 use anyhow::{bail, Context as _, Result};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 pub struct MergeArgs {
-    /// Checkpoints written by `vkrt render --integrator path --checkpoint`.
-    #[arg(required = true, num_args = 2..)]
+    /// Checkpoints written by `vkrt render --integrator path --checkpoint`, of runs with
+    /// different seeds (one alone is turned into its image).
+    #[arg(required = true, num_args = 1..)]
     pub inputs: Vec<PathBuf>,
-    /// The merged result: an image (.png, .exr, .pfm; float images get a PNG preview) or, with
-    /// any other extension, a checkpoint that can be merged or resumed again.
-    #[arg(short, long)]
+    /// The result: an image (.png after --exposure and --tonemap, .exr or .pfm linear) or a
+    /// checkpoint (.ckpt) that can be merged or resumed again.
+    #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub display: DisplayArgs,
+}
+
+/// Whether `path` names a checkpoint output (.ckpt).
+fn is_checkpoint(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("ckpt"))
 }
 
 pub fn run(args: &MergeArgs) -> Result<()> {
+    if !is_checkpoint(&args.output) {
+        output::ImageFormat::from_path(&args.output).context("-o names neither an image nor a checkpoint (.ckpt)")?;
+    }
     let mut iter = args.inputs.iter();
     let Some(first) = iter.next() else { bail!("nothing to merge") };
     let mut merged = Checkpoint::read(first)?;
     for p in iter {
         let c = Checkpoint::read(p)?;
-        merged.merge(&c).with_context(|| format!("merging {} into {}", p.display(), first.display()))?;
+        let names = (first.display().to_string(), p.display().to_string());
+        merged.merge(&c, (&names.0, &names.1)).with_context(|| format!("merging {} into {}", p.display(), first.display()))?;
     }
-    if output::ImageFormat::from_path(&args.output).is_ok() {
-        output::write_render(&args.output, &merged.accum.image(), true)?;
-    } else {
+    if is_checkpoint(&args.output) {
         merged.write(&args.output)?;
+    } else {
+        output::write_render(&args.output, &merged.accum.image(), &args.display.display())?;
     }
     eprintln!(
-        "merged {} runs (seeds {:?}): {} spp into {}",
+        "merged {} run(s) (seeds {:?}): {} spp into {}",
         args.inputs.len(),
         merged.settings.seeds,
         merged.accum.samples,

@@ -1,6 +1,7 @@
 //! The `vkrt` command line: one file per command. Each parses its flags (clap), runs the
 //! pipeline scene -> prepare -> integrator or query, and writes its output in one place.
 
+pub mod args;
 pub mod bvh;
 pub mod compare;
 pub mod info;

@@ -1,16 +1,26 @@
 //! `vkrt render`: a scene to an image with the Whitted integrator or the path tracer.
+//!
+//! Everything that can be checked is checked before any work: flags that do not apply, sizes
+//! beyond what the device and the machine can hold, an unwritable output. A resumed path-traced
+//! run takes its scene, size, camera and sampling settings from its checkpoint.
 
-use super::progress::DelayedProgress;
+use super::args::{at_least_one, exposure, fov, vec3, whole};
+use super::progress::{Progress, Status};
 use super::render_path::{self, PathArgs, PathRun};
 use super::DeviceArgs;
 use crate::accel::LayoutKind;
 use crate::bvh::{BuildConfig, BuilderKind};
-use crate::integrator::{whitted, RenderSettings};
+use crate::gpu::DeviceInfo;
+use crate::integrator::path::checkpoint::{camera_flags, Checkpoint, Identity};
+use crate::integrator::{whitted, Image, RenderSettings};
+use crate::output::display::{Display, Exposure, Tonemap};
 use crate::prepare::{Features, GpuScene, PrepareOptions, PreparedScene};
+use crate::scene::{Camera, Scene};
 use crate::{output, scene};
 use anyhow::{bail, Context as _, Result};
 use clap::{Args, ValueEnum};
-use std::path::PathBuf;
+use glam::Vec3;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -21,39 +31,62 @@ pub enum IntegratorKind {
     Path,
 }
 
+/// Default image size, both sides.
+pub const DEFAULT_SIZE: u32 = 512;
+/// The Whitted integrator's defaults.
+pub const WHITTED_DEFAULT_DEPTH: u32 = 7;
+
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Scene file: Wavefront .obj (with its .mtl) or a course-lab .yaml.
-    pub scene: PathBuf,
-    /// Output image; the extension picks the format: .png (sRGB 8-bit), .exr or .pfm (linear float).
-    #[arg(short, long)]
-    pub output: PathBuf,
-    #[arg(long, default_value_t = 512)]
-    pub width: u32,
-    #[arg(long, default_value_t = 512)]
-    pub height: u32,
-    #[arg(long, value_enum, default_value_t = IntegratorKind::Whitted)]
-    pub integrator: IntegratorKind,
-    /// Rays per path (1 = primary rays only). Default: 7 for Whitted (at most 15), unbounded for
-    /// the path tracer.
-    #[arg(long)]
+    /// Scene file: Wavefront .obj (with its .mtl) or a course-lab .yaml. Not needed with
+    /// --resume, whose checkpoint names it.
+    pub scene: Option<PathBuf>,
+    /// The image to write, exactly this file; the extension picks the format: .png (8-bit
+    /// sRGB, after --exposure and --tonemap), .exr or .pfm (linear float radiance). With
+    /// --resume, default: the checkpoint's.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Image width in pixels [default: 512].
+    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "PIXELS")]
+    pub width: Option<u32>,
+    /// Image height in pixels [default: 512].
+    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "PIXELS")]
+    pub height: Option<u32>,
+    /// Integrator [default: whitted, or path when a path-tracer flag such as --time or
+    /// --resume is given].
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorKind>,
+    /// Rays per path (1 = primary rays only). Whitted: 1 to 15 (its ray tree lives on a fixed
+    /// stack), default 7. Path tracer: default unbounded (Russian roulette ends paths).
+    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "RAYS")]
     pub max_depth: Option<u32>,
-    /// Samples per pixel. Whitted (default 1): 1 samples the pixel centre, more are jittered.
-    /// Path tracer: the total to stop at (default 16 when no --time or --target-relmse).
-    #[arg(long)]
+    /// Samples per pixel, at least 1. Whitted (default 1): 1 samples the pixel centre, more are
+    /// jittered. Path tracer: the total to stop at (default 16 when no --time or
+    /// --target-relmse).
+    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
     pub spp: Option<u32>,
-    /// Seed for the jittered samples: the same seed gives the same image.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u32,
-    /// BVH builder: median split (fast build) or binned SAH (faster rendering).
-    #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
-    pub builder: BuilderKind,
-    /// BVH layout the shaders walk.
-    #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
-    pub layout: LayoutKind,
-    /// Print scene and timing details, and which shader variant ran and why.
+    /// Seed of the samples: the same seed gives the same image, bit for bit [default: 0].
+    #[arg(long, value_parser = whole, allow_negative_numbers = true)]
+    pub seed: Option<u32>,
+    /// BVH builder: median, sah (binned SAH), sweep-sah or reinsertion [default: sah].
+    #[arg(long, value_enum)]
+    pub builder: Option<BuilderKind>,
+    /// BVH layout the shaders walk [default: threaded]; none changes the image.
+    #[arg(long, value_enum)]
+    pub layout: Option<LayoutKind>,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    #[command(flatten)]
+    pub display: DisplayArgs,
+    /// Also write an 8-bit PNG preview of the image here (after --exposure and --tonemap).
+    #[arg(long, value_name = "FILE.png")]
+    pub preview: Option<PathBuf>,
+    /// Print scene and timing details, the camera used and which shader variant ran and why.
     #[arg(short, long)]
     pub verbose: bool,
+    /// Print nothing but errors: no progress, no warnings, no summary.
+    #[arg(short, long, conflicts_with = "verbose")]
+    pub quiet: bool,
     /// What rays that leave the scene see, as linear RGB radiance `R,G,B` (e.g. `1,1,1`):
     /// replaces the scene's sky box; lights the scene in the path tracer. Default: the scene's
     /// sky box if it has one, else black.
@@ -69,110 +102,368 @@ pub struct RenderArgs {
     pub path: PathArgs,
 }
 
+/// Which camera renders: the scene file's (or its N-th), with any of its parts replaced.
+#[derive(Debug, Args, Default)]
+pub struct CameraArgs {
+    /// Render from the scene file's camera N (0 is the first, in file order).
+    #[arg(long, value_parser = whole, allow_negative_numbers = true, value_name = "N")]
+    pub camera: Option<u32>,
+    /// Camera position, replacing the scene camera's.
+    #[arg(long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub eye: Option<Vec3>,
+    /// The point the camera looks at.
+    #[arg(long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub target: Option<Vec3>,
+    /// The camera's up direction.
+    #[arg(long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub up: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long, value_parser = fov, value_name = "DEGREES")]
+    pub fov: Option<f32>,
+}
+
+/// How the image becomes an 8-bit picture (PNG outputs and previews; float outputs stay
+/// linear and scene-referred).
+#[derive(Debug, Args, Default)]
+pub struct DisplayArgs {
+    /// Exposure in stops: the image is scaled by 2^EV before the display transform; `auto`
+    /// maps the image's log-average luminance to middle grey 0.18; 0 shows the radiance as it
+    /// is [default: auto].
+    #[arg(long, value_parser = exposure, allow_negative_numbers = true, value_name = "EV|auto")]
+    pub exposure: Option<Exposure>,
+    /// Display transform for 8-bit outputs: neutral (Khronos PBR Neutral: colours below 0.76
+    /// unchanged, highlights rolled off, never clipped), aces (filmic S-curve) or clamp (clip
+    /// at 1) [default: neutral].
+    #[arg(long, value_enum)]
+    pub tonemap: Option<Tonemap>,
+}
+
+impl DisplayArgs {
+    pub fn display(&self) -> Display {
+        Display { exposure: self.exposure.unwrap_or_default(), tonemap: self.tonemap.unwrap_or_default() }
+    }
+}
+
+/// A camera as the ten numbers a checkpoint stores.
+fn camera_numbers(c: &Camera) -> [f32; 10] {
+    [c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg]
+}
+
+fn camera_from(n: &[f32; 10]) -> Camera {
+    Camera { eye: Vec3::new(n[0], n[1], n[2]), target: Vec3::new(n[3], n[4], n[5]), up: Vec3::new(n[6], n[7], n[8]), fov_y_deg: n[9] }
+}
+
+impl CameraArgs {
+    /// The camera to render with: `base` (the scene's, or a resumed run's), or the scene file's
+    /// camera `--camera N`, with the parts given on the command line replaced.
+    fn choose(&self, scene: &Scene, base: Camera) -> Result<Camera> {
+        let mut cam = match self.camera {
+            Some(n) => *scene.cameras.get(n as usize).with_context(|| {
+                let count = scene.cameras.len();
+                if count == 0 {
+                    format!("--camera {n}: the scene file defines no camera")
+                } else {
+                    format!("--camera {n}: the scene file defines {count} camera(s), numbered 0 to {}", count - 1)
+                }
+            })?,
+            None => base,
+        };
+        cam.eye = self.eye.unwrap_or(cam.eye);
+        cam.target = self.target.unwrap_or(cam.target);
+        cam.up = self.up.unwrap_or(cam.up);
+        cam.fov_y_deg = self.fov.unwrap_or(cam.fov_y_deg);
+        cam.frame().with_context(|| format!("the camera {} cannot render", camera_flags(&camera_numbers(&cam))))?;
+        Ok(cam)
+    }
+}
+
+/// Prints a line on stderr unless `--quiet`.
+struct Say {
+    quiet: bool,
+}
+
+impl Say {
+    fn line(&self, text: &str) {
+        if !self.quiet {
+            eprintln!("{text}");
+        }
+    }
+}
+
+/// The integrator to use: as asked, or the path tracer when a flag only it reads is given.
+fn choose_integrator(args: &RenderArgs, say: &Say) -> Result<IntegratorKind> {
+    let path_flags = args.path.given();
+    match (args.integrator, path_flags.first()) {
+        (Some(IntegratorKind::Whitted), Some(flag)) => {
+            bail!("{flag} needs --integrator path (the Whitted integrator renders its samples once, with no progressive run)")
+        }
+        (Some(kind), _) => Ok(kind),
+        (None, Some(flag)) => {
+            // A checkpoint can only be the path tracer's: no need to say so.
+            if *flag != "--resume" {
+                say.line(&format!("note: {flag} selects the path tracer (--integrator path)"));
+            }
+            Ok(IntegratorKind::Path)
+        }
+        (None, None) => Ok(IntegratorKind::Whitted),
+    }
+}
+
+/// Bytes per pixel of a render: the largest buffer bound whole (its accumulation buffer, 16),
+/// all the device's buffers, and what the host holds at the end (sums read back, the image,
+/// the encoded picture), for each integrator.
+fn bytes_per_pixel(integrator: IntegratorKind) -> (u64, u64, u64) {
+    match integrator {
+        IntegratorKind::Whitted => (16, 16, 16 + 12 + 12 + 4),
+        // Sum and even-sample buffers and ray counts; on the host two copies of the sums while
+        // one is read back, the image and the picture.
+        IntegratorKind::Path => (16, 16 + 16 + 4, 2 * 32 + 12 + 12 + 4),
+    }
+}
+
+/// Memory the system says is available now (Linux: /proc/meminfo's MemAvailable).
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Fails, naming the limit, if a `width` x `height` image cannot be rendered on `device` with
+/// the memory this machine has: before any work, instead of an allocation failure later.
+pub fn check_image_size(device: &DeviceInfo, width: u32, height: u32, integrator: IntegratorKind) -> Result<()> {
+    let pixels = width as u64 * height as u64;
+    let (binding, device_total, host_total) = bytes_per_pixel(integrator);
+    let mib = |b: u64| b >> 20;
+    let side = |px: u64| (px as f64).sqrt() as u64;
+    let binding_limit = device.max_storage_buffer_range as u64 / binding;
+    if pixels > binding_limit {
+        bail!(
+            "--width {width} --height {height} is {pixels} pixels; {} binds at most {} MiB in one buffer, which holds \
+             {binding_limit} pixels of accumulation ({binding} bytes each), e.g. {}x{}",
+            device.name,
+            mib(device.max_storage_buffer_range as u64),
+            side(binding_limit),
+            side(binding_limit)
+        );
+    }
+    if device.device_local_bytes > 0 && pixels * device_total > device.device_local_bytes {
+        bail!(
+            "--width {width} --height {height} needs {} MiB of device memory for its buffers; {} has {} MiB",
+            mib(pixels * device_total),
+            device.name,
+            mib(device.device_local_bytes)
+        );
+    }
+    if let Some(free) = available_memory() {
+        if pixels * host_total > free {
+            bail!(
+                "--width {width} --height {height} needs about {} MiB of memory for the image; {} MiB are available",
+                mib(pixels * host_total),
+                mib(free)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `path` made absolute against the current folder (checkpoints record absolute paths, so a
+/// run resumes from anywhere).
+fn absolute(path: &Path) -> PathBuf {
+    std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
 pub fn run(args: &RenderArgs) -> Result<()> {
-    // Fail on an unwritable output before spending time on the render.
-    output::check_writable(&args.output)?;
-    if args.width == 0 || args.height == 0 {
-        bail!("--width and --height must be positive");
+    let say = Say { quiet: args.quiet };
+    let integrator = choose_integrator(args, &say)?;
+    let resumed = match &args.path.resume {
+        Some(p) => Some(Checkpoint::read(p)?),
+        None => None,
+    };
+    let stored = resumed.as_ref().map(|c| &c.settings);
+    if let Some(c) = &resumed {
+        if c.settings.seeds.len() > 1 {
+            bail!(
+                "cannot resume a merged checkpoint (seeds {:?}): its runs cannot go on as one; turn it into an image \
+                 with `vkrt merge`",
+                c.settings.seeds
+            );
+        }
     }
-    let t0 = Instant::now();
-    let mut scene = scene::load_scene(&args.scene)?;
-    if let Some(sky) = &args.sky {
-        scene.sky = scene::Sky::parse_constant(sky)?;
+    let defaults = stored.map(|s| &s.resume).filter(|r| !r.output.is_empty());
+    let scene_path = match (&args.scene, stored) {
+        (Some(p), _) => p.clone(),
+        (None, Some(s)) => PathBuf::from(&s.scene_path),
+        (None, None) => bail!("no scene file given (vkrt render SCENE -o OUTPUT)"),
+    };
+    let output = match (&args.output, defaults) {
+        (Some(p), _) => p.clone(),
+        (None, Some(d)) => PathBuf::from(&d.output),
+        (None, None) if resumed.is_some() => bail!("the checkpoint does not record its output (an older vkrt wrote it): give -o"),
+        (None, None) => bail!("no output given: -o FILE (.png, .exr or .pfm)"),
+    };
+    let width = args.width.or(stored.map(|s| s.width)).unwrap_or(DEFAULT_SIZE);
+    let height = args.height.or(stored.map(|s| s.height)).unwrap_or(DEFAULT_SIZE);
+    let seed = args.seed.or(stored.and_then(|s| s.seeds.first().copied())).unwrap_or(0);
+    let builder = args.builder.or_else(|| defaults.and_then(|d| BuilderKind::from_str(&d.builder, false).ok())).unwrap_or_default();
+    let layout = args.layout.or_else(|| defaults.and_then(|d| LayoutKind::from_str(&d.layout, false).ok())).unwrap_or_default();
+    let display = args.display.display();
+
+    // Checks that need no scene.
+    output::check_writable(&output)?;
+    if let Some(p) = &args.preview {
+        if output::ImageFormat::from_path(p).ok() != Some(output::ImageFormat::Png) {
+            bail!("--preview {}: a preview is an 8-bit picture; name a .png", p.display());
+        }
+        output::check_writable(p)?;
     }
-    let load_s = t0.elapsed().as_secs_f64();
-    let options = PrepareOptions { builder: args.builder, layout: args.layout, build: BuildConfig::default() };
-    let prepared = PreparedScene::new(&scene, &options)?;
+    if integrator == IntegratorKind::Whitted && args.max_depth.is_some_and(|d| d > whitted::MAX_DEPTH) {
+        bail!("--max-depth {}: the Whitted integrator traces 1 to {} rays per path", args.max_depth.unwrap_or(0), whitted::MAX_DEPTH);
+    }
     let ctx = args.device.context()?;
+    check_image_size(&ctx.info, width, height, integrator)?;
+
+    let t0 = Instant::now();
+    let mut scene = scene::load_scene(&scene_path)?;
+    for w in &scene.stats.warnings {
+        say.line(&format!("warning: {w}"));
+    }
+    // The sky and the camera: the command line's, else a resumed run's, else the scene's.
+    let stored_identity = stored.map(|s| &s.identity);
+    let (stored_sky, stored_camera) = match stored_identity {
+        Some(Identity::Inputs { sky, camera, .. }) => (Some(sky.clone()), Some(camera_from(camera))),
+        _ => (None, None),
+    };
+    let sky = args.sky.clone().or(stored_sky).unwrap_or_default();
+    if !sky.is_empty() {
+        scene.sky = scene::Sky::parse_constant(&sky)?;
+    }
+    scene.camera = args.camera.choose(&scene, stored_camera.unwrap_or(scene.camera))?;
+    let load_s = t0.elapsed().as_secs_f64();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder, layout, build: BuildConfig::default() })?;
+    for w in &prepared.atlas.downsampled {
+        say.line(&format!("warning: {w}"));
+    }
     let t1 = Instant::now();
     let gpu = GpuScene::upload(&ctx, &prepared)?;
     let upload_s = t1.elapsed().as_secs_f64();
     if args.verbose {
-        report(args, &scene, &prepared, &gpu, &ctx.info, load_s, upload_s);
+        report(args, &scene_path, &scene, &prepared, &gpu, &ctx.info, (load_s, upload_s), integrator);
     }
-    let mut progress = DelayedProgress::new("rendering");
-    let (image, stats, interrupted_at) = match args.integrator {
+
+    let mut progress = Progress::new("rendering", args.quiet);
+    let write_outputs = |image: &Image| -> Result<()> {
+        output::write_render(&output, image, &display)?;
+        if let Some(p) = &args.preview {
+            output::write_render(p, image, &display)?;
+        }
+        Ok(())
+    };
+    let (image, stats, interrupted_at, relmse) = match integrator {
         IntegratorKind::Whitted => {
             let settings = RenderSettings {
-                width: args.width,
-                height: args.height,
+                width,
+                height,
                 spp: args.spp.unwrap_or(1),
-                max_depth: args.max_depth.unwrap_or(7),
-                seed: args.seed,
+                max_depth: args.max_depth.unwrap_or(WHITTED_DEFAULT_DEPTH),
+                seed,
                 all_features: args.all_features,
                 ..RenderSettings::default()
             };
-            let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |d, t| progress.update(d, t))?;
-            (image, stats, None)
+            let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |done, total| {
+                progress.update(&Status { fraction: done as f64 / total.max(1) as f64, count: Some((done, Some(total), "tiles")), ..Status::default() })
+            })?;
+            progress.finish();
+            (image, stats, None, None)
         }
         IntegratorKind::Path => {
-            let run = PathRun {
-                scene_path: &args.scene,
-                scene: &scene,
-                sky: args.sky.as_deref().unwrap_or(""),
-                output: &args.output,
-                width: args.width,
-                height: args.height,
-                seed: args.seed,
-                spp: args.spp,
-                max_depth: args.max_depth,
+            let image = RenderSettings {
+                width,
+                height,
+                seed,
+                samples_per_batch: args.path.samples_per_batch.unwrap_or(render_path::DEFAULT_SAMPLES_PER_BATCH),
                 all_features: args.all_features,
-                args: &args.path,
+                ..RenderSettings::default()
             };
-            let out = render_path::render(&ctx, &gpu, &run)?;
+            let stop = render_path::stop_rules(args.spp, &args.path, stored.map(|s| &s.resume));
+            let mut settings = render_path::path_settings(&args.path, image, args.max_depth, stored, stop);
+            settings.adaptive |= resumed.as_ref().is_some_and(|c| c.accum.per_pixel);
+            let run = PathRun {
+                scene: &scene,
+                scene_path: absolute(&scene_path).display().to_string(),
+                sky,
+                camera: camera_numbers(&scene.camera),
+                settings,
+                seed,
+                output: absolute(&output).display().to_string(),
+                builder: builder.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default(),
+                layout: layout.name().to_string(),
+                // A resumed run keeps saving into its checkpoint unless told otherwise.
+                checkpoint: args.path.checkpoint.clone().or_else(|| args.path.resume.clone()),
+                checkpoint_interval: args.path.checkpoint_interval.unwrap_or(render_path::DEFAULT_CHECKPOINT_INTERVAL_S),
+                resume: resumed,
+                resume_path: args.path.resume.clone(),
+                preview_every: args.path.preview_every,
+            };
+            let mut preview = |image: &Image| write_outputs(image);
+            let out = render_path::render(&ctx, &gpu, &run, &mut progress, &mut preview, &|line| say.line(line))?;
             let interrupted = out.stats.interrupted.then_some(out.samples);
-            (out.image, out.stats, interrupted)
+            (out.image, out.stats, interrupted, out.relmse.map(|e| (out.samples, e)))
         }
     };
-    progress.finish();
-    // The one place a render's output is written. The path tracer's float images get a PNG
-    // preview beside them.
-    output::write_render(&args.output, &image, args.integrator == IntegratorKind::Path)?;
+    // The one place a render's outputs are written.
+    write_outputs(&image)?;
     if let Some(samples) = interrupted_at {
-        let saved = args.path.checkpoint.as_ref().map_or(String::new(), |p| format!(" and checkpoint {}", p.display()));
-        bail!("interrupted after {samples} spp; wrote {}{saved}", args.output.display());
+        let checkpoint = args.path.checkpoint.as_ref().or(args.path.resume.as_ref());
+        let saved = checkpoint.map_or(String::new(), |p| format!(" and checkpoint {}", p.display()));
+        bail!("interrupted after {samples} spp; wrote {}{saved}", output.display());
     }
     ctx.check_validation().context("Vulkan validation")?;
-    eprintln!(
-        "rendered {} at {}x{}, {} in {:.3} s on {}{}",
-        args.output.display(),
-        args.width,
-        args.height,
-        match args.integrator {
-            IntegratorKind::Whitted => format!("{} spp, depth {}", args.spp.unwrap_or(1), args.max_depth.unwrap_or(7)),
-            IntegratorKind::Path => format!("depth {}", args.max_depth.map_or("unbounded".into(), |d| d.to_string())),
-        },
+    let what = match (integrator, relmse) {
+        (IntegratorKind::Whitted, _) => format!("{} spp, depth {}", args.spp.unwrap_or(1), args.max_depth.unwrap_or(WHITTED_DEFAULT_DEPTH)),
+        (IntegratorKind::Path, est) => {
+            let depth = args.max_depth.map_or("unbounded".into(), |d| d.to_string());
+            let est = est.map_or(String::new(), |(spp, e)| format!("{spp} spp, estimated relMSE {e:.3e}, "));
+            format!("{est}depth {depth}")
+        }
+    };
+    let dropped = if stats.nonfinite_samples > 0 { format!(" ({} NaN/Inf samples dropped)", stats.nonfinite_samples) } else { String::new() };
+    say.line(&format!(
+        "rendered {} at {width}x{height}, {what} in {:.3} s on {}{dropped}",
+        output.display(),
         stats.seconds,
-        ctx.info.name,
-        if stats.nonfinite_samples > 0 { format!(" ({} NaN/Inf samples dropped)", stats.nonfinite_samples) } else { String::new() }
-    );
+        ctx.info.name
+    ));
     Ok(())
 }
 
-/// `--verbose`: what was loaded, how long each stage took, and which shader variant runs and why.
+/// `--verbose`: what was loaded, how long each stage took, the camera in the flags' own
+/// syntax, and which shader variant runs and why.
+#[allow(clippy::too_many_arguments)]
 fn report(
     args: &RenderArgs,
-    scene: &scene::Scene,
+    scene_path: &Path,
+    scene: &Scene,
     prepared: &PreparedScene,
     gpu: &GpuScene,
-    device: &crate::gpu::DeviceInfo,
-    load_s: f64,
-    upload_s: f64,
+    device: &DeviceInfo,
+    (load_s, upload_s): (f64, f64),
+    integrator: IntegratorKind,
 ) {
     eprintln!(
         "scene {}: {} triangles, {} materials, {} lights, {} emissive triangles, {} dropped as degenerate",
-        args.scene.display(),
+        scene_path.display(),
         scene.triangles.len(),
         scene.materials.len(),
         scene.lights.len(),
         gpu.emitter_count,
         scene.stats.dropped_degenerate
     );
+    eprintln!("camera: {}", camera_flags(&camera_numbers(&scene.camera)));
     eprintln!("device: {} ({})", device.name, device.driver_info);
     eprintln!(
-        "load {:.3} s, {:?} BVH build {:.3} s ({} nodes), upload {:.3} s",
+        "load {:.3} s, BVH build {:.3} s ({} nodes), upload {:.3} s",
         load_s,
-        args.builder,
         prepared.build_seconds,
         prepared.flat.node_count(),
         upload_s
@@ -186,6 +477,7 @@ fn report(
     }
     let features = if args.all_features { Features::all() } else { prepared.info.features.clone() };
     let how = if args.all_features { "unspecialised, --all-features" } else { "specialised to the scene" };
-    eprintln!("shader variant: {:?} {} ({how}): {}", args.integrator, args.layout.name(), features.variant_name());
+    let name = integrator.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
+    eprintln!("shader variant: {name} {} ({how}): {}", prepared.flat.layout().name(), features.variant_name());
     eprint!("{}", features.report());
 }

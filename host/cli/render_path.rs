@@ -1,11 +1,13 @@
-//! The path tracer's half of `vkrt render` (`--integrator path`): its progressive flags, the
-//! run's identity for checkpoints, resuming, and the hooks that save checkpoints, show progress
-//! and catch Ctrl-C.
+//! The path tracer's half of `vkrt render`: its progressive flags, the run's identity for
+//! checkpoints, what a resumed run takes from its checkpoint, and the hooks that save
+//! checkpoints, rewrite the image while it converges, show progress and catch Ctrl-C.
 
+use super::args::{at_least_one, positive};
 use super::interrupt::interrupt_flag;
+use super::progress::{Progress, Status};
 use crate::gpu::Context;
 use crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED;
-use crate::integrator::path::checkpoint::{fnv1a_file, hash_inputs, Checkpoint, Identity, RunSettings};
+use crate::integrator::path::checkpoint::{hash_inputs, Checkpoint, Identity, ResumeDefaults, RunSettings};
 use crate::integrator::path::{self, Accumulation, Hooks, PathProgress, PathSettings, SamplerKind, Stop};
 use crate::integrator::{Image, RenderSettings, RenderStats};
 use crate::prepare::GpuScene;
@@ -16,106 +18,197 @@ use std::path::{Path, PathBuf};
 
 /// Samples per pixel when a path-traced render names no stop condition.
 pub const DEFAULT_PATH_SPP: u64 = 16;
+/// Defaults of the path tracer's flags.
+pub const DEFAULT_SAMPLE_RATE: u32 = 4;
+pub const DEFAULT_CHECKPOINT_INTERVAL_S: f64 = 10.0;
+pub const DEFAULT_SAMPLES_PER_BATCH: u32 = 4;
 
-/// Flags of `vkrt render` that only the path tracer reads.
-#[derive(Debug, Args)]
+/// Flags of `vkrt render` that only the path tracer reads. Giving one selects the path tracer
+/// (an error with an explicit `--integrator whitted`).
+#[derive(Debug, Args, Default)]
 pub struct PathArgs {
-    /// Path tracer: sample generator.
-    #[arg(long, value_enum, default_value_t = SamplerKind::Sobol)]
-    pub sampler: SamplerKind,
-    /// Path tracer, stratified sampler: strata per pixel side (SampleRate^2 strata).
-    #[arg(long, default_value_t = 4)]
-    pub sample_rate: u32,
+    /// Path tracer: sample generator [default: sobol].
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerKind>,
+    /// Path tracer, stratified sampler: strata per pixel side (N^2 strata) [default: 4].
+    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
+    pub sample_rate: Option<u32>,
     /// Path tracer: stop after this many seconds (with --spp or --target-relmse, the first to hold).
-    #[arg(long)]
+    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
     pub time: Option<f64>,
     /// Path tracer: stop once the relMSE estimated from two half-images is at most this.
-    #[arg(long)]
+    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "RELMSE")]
     pub target_relmse: Option<f64>,
-    /// Path tracer: write the running sums, sample count and settings here every few seconds
-    /// (and at the end), atomically.
-    #[arg(long)]
+    /// Path tracer: write the running sums, sample count and settings here every
+    /// --checkpoint-interval seconds and at the end, atomically. With --resume, default: the
+    /// resumed checkpoint itself.
+    #[arg(long, value_name = "FILE")]
     pub checkpoint: Option<PathBuf>,
-    /// Path tracer: seconds between checkpoints.
-    #[arg(long, default_value_t = 10.0)]
-    pub checkpoint_interval: f64,
-    /// Path tracer: continue the run saved in this checkpoint (same scene, size and settings).
-    #[arg(long)]
+    /// Path tracer: seconds between checkpoints [default: 10].
+    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
+    pub checkpoint_interval: Option<f64>,
+    /// Path tracer: continue the run saved in this checkpoint, with the scene, size, camera and
+    /// sampling settings it records (flags that would change the image are an error); --spp,
+    /// --time and --target-relmse given here replace its stop rules, -o its output.
+    #[arg(long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
-    /// Path tracer: samples per pixel per submission.
-    #[arg(long, default_value_t = 4)]
-    pub samples_per_batch: u32,
+    /// Path tracer: samples per pixel per submission [default: 4].
+    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
+    pub samples_per_batch: Option<u32>,
     /// Path tracer: BSDF sampling only, no light sampling (for checking the estimators).
     #[arg(long)]
     pub no_nee: bool,
-    /// Path tracer: pixels in a row that draw the same sample numbers (coherent path tracing).
-    /// 8 makes lavapipe's SIMD lanes trace alike: about 2x faster at the same expected error,
-    /// with the noise in short horizontal streaks. 1: every pixel its own numbers.
-    #[arg(long, default_value_t = 1)]
-    pub coherence: u32,
+    /// Path tracer: pixels in a row that draw the same sample numbers (coherent path tracing)
+    /// [default: 1]. 8 makes lavapipe's SIMD lanes trace alike: about 2x faster at the same
+    /// expected error per pixel, with the noise in short horizontal streaks.
+    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
+    pub coherence: Option<u32>,
     /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels in
     /// a row (8, or whole --coherence blocks) takes samples in proportion to the noise the
     /// pilot showed around it (not in it, which keeps the image unbiased); --spp is then the
     /// mean over the pixels.
     #[arg(long)]
     pub adaptive: bool,
+    /// Path tracer: rewrite the output image (atomically) every SECONDS while rendering, so an
+    /// image viewer that reloads shows it converge.
+    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
+    pub preview_every: Option<f64>,
 }
 
-/// What the render command passes on.
-pub struct PathRun<'a> {
-    pub scene_path: &'a Path,
-    /// The scene as loaded: its input files make the run's identity.
-    pub scene: &'a Scene,
-    /// The `--sky` override, as given ("" for the scene's own sky).
-    pub sky: &'a str,
-    pub output: &'a Path,
-    pub width: u32,
-    pub height: u32,
-    pub seed: u32,
-    pub spp: Option<u32>,
-    pub max_depth: Option<u32>,
-    /// Run the all-features shader rather than the scene's specialised one.
-    pub all_features: bool,
-    pub args: &'a PathArgs,
-}
-
-/// This run's settings as a checkpoint records them: `identity` says which scene.
-fn run_settings(run: &PathRun, settings: &PathSettings, identity: Identity) -> RunSettings {
-    RunSettings {
-        scene_path: run.scene_path.display().to_string(),
-        identity,
-        width: run.width,
-        height: run.height,
-        seeds: vec![run.seed],
-        integrator: "path".into(),
-        sampler: settings.sampler.gpu_value(),
-        sample_rate: settings.sample_rate,
-        max_depth: settings.max_depth.unwrap_or(PATH_DEPTH_UNBOUNDED),
-        nee: settings.nee as u32,
-        coherence: settings.coherence,
+impl PathArgs {
+    /// The path-tracer flags given on the command line, by name.
+    pub fn given(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        let mut add = |on: bool, name| {
+            if on {
+                v.push(name)
+            }
+        };
+        add(self.sampler.is_some(), "--sampler");
+        add(self.sample_rate.is_some(), "--sample-rate");
+        add(self.time.is_some(), "--time");
+        add(self.target_relmse.is_some(), "--target-relmse");
+        add(self.checkpoint.is_some(), "--checkpoint");
+        add(self.checkpoint_interval.is_some(), "--checkpoint-interval");
+        add(self.resume.is_some(), "--resume");
+        add(self.samples_per_batch.is_some(), "--samples-per-batch");
+        add(self.no_nee, "--no-nee");
+        add(self.coherence.is_some(), "--coherence");
+        add(self.adaptive, "--adaptive");
+        add(self.preview_every.is_some(), "--preview-every");
+        v
     }
 }
 
-/// The sums of the checkpoint at `path`, if they are this run's (same render, same seed).
-fn resumed_sums(path: &Path, run: &PathRun, ours: &RunSettings) -> Result<Accumulation> {
-    let c = Checkpoint::read(path)?;
+/// A path-traced render, resolved: the command line's values, or a resumed checkpoint's.
+pub struct PathRun<'a> {
+    /// The scene as loaded: its input files make the run's identity.
+    pub scene: &'a Scene,
+    /// The scene file's absolute path (what a checkpoint records).
+    pub scene_path: String,
+    /// The `--sky` override, as given ("" for the scene's own sky).
+    pub sky: String,
+    /// The camera used: eye, target, up, vertical field of view.
+    pub camera: [f32; 10],
+    pub settings: PathSettings,
+    pub seed: u32,
+    /// The output image's absolute path, and the builder and layout names (for a checkpoint).
+    pub output: String,
+    pub builder: String,
+    pub layout: String,
+    /// Where to save checkpoints, and how often.
+    pub checkpoint: Option<PathBuf>,
+    pub checkpoint_interval: f64,
+    /// The checkpoint to continue.
+    pub resume: Option<Checkpoint>,
+    pub resume_path: Option<PathBuf>,
+    pub preview_every: Option<f64>,
+}
+
+/// The settings a path-traced run uses: each flag, or when resuming the checkpoint's value,
+/// or the default. Differences from the checkpoint are caught by its identity check.
+pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u32>, resumed: Option<&RunSettings>, stop: Stop) -> PathSettings {
+    let sampler = args.sampler.or_else(|| resumed.and_then(|r| SamplerKind::from_gpu_value(r.sampler))).unwrap_or(SamplerKind::Sobol);
+    let stored_depth = resumed.map(|r| if r.max_depth == PATH_DEPTH_UNBOUNDED { None } else { Some(r.max_depth) });
+    PathSettings {
+        image,
+        max_depth: max_depth.or(stored_depth.flatten()),
+        sampler,
+        sample_rate: args.sample_rate.or(resumed.map(|r| r.sample_rate)).unwrap_or(DEFAULT_SAMPLE_RATE),
+        nee: if args.no_nee { false } else { resumed.map_or(true, |r| r.nee != 0) },
+        coherence: args.coherence.or(resumed.map(|r| r.coherence)).unwrap_or(1),
+        adaptive: args.adaptive,
+        stop,
+    }
+}
+
+/// The stop rules: those given, else a resumed run's, else `DEFAULT_PATH_SPP`.
+pub fn stop_rules(spp: Option<u32>, args: &PathArgs, resumed: Option<&ResumeDefaults>) -> Stop {
+    let given = Stop { spp: spp.map(u64::from), seconds: args.time, target_relmse: args.target_relmse };
+    if given != Stop::default() {
+        return given;
+    }
+    if let Some(r) = resumed {
+        let stored = Stop { spp: r.spp, seconds: r.seconds, target_relmse: r.target_relmse };
+        if stored != Stop::default() {
+            return stored;
+        }
+    }
+    Stop { spp: Some(DEFAULT_PATH_SPP), ..Stop::default() }
+}
+
+/// This run's settings as a checkpoint records them.
+fn run_settings(run: &PathRun, identity: Identity) -> RunSettings {
+    let s = &run.settings;
+    RunSettings {
+        scene_path: run.scene_path.clone(),
+        identity,
+        width: s.image.width,
+        height: s.image.height,
+        seeds: vec![run.seed],
+        integrator: "path".into(),
+        sampler: s.sampler.gpu_value(),
+        sample_rate: s.sample_rate,
+        max_depth: s.max_depth.unwrap_or(PATH_DEPTH_UNBOUNDED),
+        nee: s.nee as u32,
+        coherence: s.coherence,
+        resume: ResumeDefaults {
+            output: run.output.clone(),
+            builder: run.builder.clone(),
+            layout: run.layout.clone(),
+            spp: s.stop.spp,
+            seconds: s.stop.seconds,
+            target_relmse: s.stop.target_relmse,
+        },
+    }
+}
+
+/// The sums of the resumed checkpoint, if they are this run's (same render, same seed).
+fn resumed_sums(c: &Checkpoint, path: &Path, run: &PathRun, ours: &RunSettings, say: &dyn Fn(&str)) -> Result<Accumulation> {
     let ours = match c.settings.identity {
         // An older vkrt hashed only the scene file: check that much, and say so.
         Identity::SceneFile { .. } => {
-            eprintln!(
+            say(&format!(
                 "warning: {} was written by an older vkrt, which recorded only the scene file's hash: its meshes, \
-                 textures and sky cannot be checked",
+                 textures, sky and camera cannot be checked",
                 path.display()
-            );
-            RunSettings { identity: Identity::SceneFile { fnv: fnv1a_file(run.scene_path)? }, ..ours.clone() }
+            ));
+            let fnv = crate::integrator::path::checkpoint::fnv1a_file(Path::new(&run.scene_path))?;
+            RunSettings { identity: Identity::SceneFile { fnv }, ..ours.clone() }
         }
         Identity::Inputs { .. } => ours.clone(),
     };
-    c.settings.check_same_render(&ours).with_context(|| format!("cannot resume {}", path.display()))?;
+    c.settings.check_same_render(&ours, ("the checkpoint", "this run")).with_context(|| {
+        format!(
+            "cannot resume {}: a resumed run renders the checkpoint's image, so leave out the flags that change it \
+             (or start a new run)",
+            path.display()
+        )
+    })?;
     if c.settings.seeds != ours.seeds {
         bail!("cannot resume {}: it holds seeds {:?}, this run uses seed {}", path.display(), c.settings.seeds, run.seed);
     }
-    Ok(c.accum)
+    Ok(c.accum.clone())
 }
 
 /// What a path-traced render returns to the render command, which writes the image.
@@ -124,68 +217,56 @@ pub struct PathOutcome {
     pub stats: RenderStats,
     /// Samples per pixel taken (the mean over the pixels for an adaptive run).
     pub samples: u64,
+    /// The last error estimate.
+    pub relmse: Option<f64>,
 }
 
-/// Renders with the path tracer, saving checkpoints as asked.
-pub fn render(ctx: &Context, gpu: &GpuScene, run: &PathRun) -> Result<PathOutcome> {
-    let a = run.args;
-    let mut stop = Stop { spp: run.spp.map(u64::from), seconds: a.time, target_relmse: a.target_relmse };
-    if stop == Stop::default() {
-        stop.spp = Some(DEFAULT_PATH_SPP);
-    }
-    let settings = PathSettings {
-        image: RenderSettings {
-            width: run.width,
-            height: run.height,
-            seed: run.seed,
-            samples_per_batch: a.samples_per_batch,
-            all_features: run.all_features,
-            ..RenderSettings::default()
-        },
-        max_depth: run.max_depth,
-        sampler: a.sampler,
-        sample_rate: a.sample_rate,
-        nee: !a.no_nee,
-        coherence: a.coherence,
-        adaptive: a.adaptive,
-        stop,
-    };
+/// Renders with the path tracer: checkpoints as asked, `write_preview` every
+/// `--preview-every` seconds, progress on `progress`.
+pub fn render(
+    ctx: &Context,
+    gpu: &GpuScene,
+    run: &PathRun,
+    progress: &mut Progress,
+    write_preview: &mut dyn FnMut(&Image) -> Result<()>,
+    say: &dyn Fn(&str),
+) -> Result<PathOutcome> {
     // Hashing every input costs a read of each file: only runs that save or resume need it.
-    let ours = if a.checkpoint.is_some() || a.resume.is_some() {
-        let identity = Identity::Inputs { inputs: hash_inputs(&run.scene.stats.inputs)?, sky: run.sky.to_string() };
-        Some(run_settings(run, &settings, identity))
+    let ours = if run.checkpoint.is_some() || run.resume.is_some() {
+        let identity = Identity::Inputs { inputs: hash_inputs(&run.scene.stats.inputs)?, sky: run.sky.clone(), camera: run.camera };
+        Some(run_settings(run, identity))
     } else {
         None
     };
-    let resume = match (&a.resume, &ours) {
-        (Some(p), Some(ours)) => Some(resumed_sums(p, run, ours)?),
+    let resume = match (&run.resume, &run.resume_path, &ours) {
+        (Some(c), Some(p), Some(ours)) => Some(resumed_sums(c, p, run, ours, say)?),
         _ => None,
     };
-    let bar = indicatif::ProgressBar::new(1000);
-    if let Ok(style) = indicatif::ProgressStyle::with_template("[{bar:30}] {msg}") {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    let mut progress = |p: &PathProgress| {
-        bar.set_position((p.fraction * 1000.0) as u64);
-        let err = p.relmse.map_or(String::from("-"), |e| format!("{e:.2e}"));
-        bar.set_message(format!("{} spp, {:.2} Msamples/s, est. relMSE {err}, {:.1} s", p.samples, p.samples_per_second / 1e6, p.seconds));
+    let mut on_progress = |p: &PathProgress| {
+        progress.update(&Status {
+            fraction: p.fraction,
+            count: Some((p.samples, p.target_spp, "spp")),
+            rays_per_second: p.rays_per_second,
+            relmse: p.relmse,
+        });
     };
     let mut save = |acc: &Accumulation| -> Result<()> {
-        match (&a.checkpoint, &ours) {
+        match (&run.checkpoint, &ours) {
             (Some(p), Some(ours)) => Checkpoint { settings: ours.clone(), accum: acc.clone() }.write(p),
             _ => Ok(()),
         }
     };
+    let mut snapshot = |acc: &Accumulation| write_preview(&acc.image());
     let mut hooks = Hooks {
-        progress: Some(&mut progress),
-        checkpoint: if a.checkpoint.is_some() { Some(&mut save) } else { None },
-        checkpoint_interval_s: a.checkpoint_interval,
+        progress: Some(&mut on_progress),
+        checkpoint: if run.checkpoint.is_some() { Some(&mut save) } else { None },
+        checkpoint_interval_s: run.checkpoint_interval,
+        snapshot: if run.preview_every.is_some() { Some(&mut snapshot) } else { None },
+        snapshot_interval_s: run.preview_every.unwrap_or(f64::INFINITY),
         interrupt: interrupt_flag(),
     };
-    let (acc, stats) = path::render(ctx, gpu, &settings, resume, &mut hooks)?;
-    bar.finish_and_clear();
-    let err = acc.estimate_relmse().map_or(String::new(), |e| format!(", estimated relMSE {e:.3e}"));
-    let mean = if acc.per_pixel { " (mean over the pixels, adaptive)" } else { "" };
-    eprintln!("path tracer: {} spp{mean}{err}", acc.samples);
-    Ok(PathOutcome { image: acc.image(), stats, samples: acc.samples })
+    let (acc, stats) = path::render(ctx, gpu, &run.settings, resume, &mut hooks)?;
+    progress.finish();
+    let relmse = acc.estimate_relmse();
+    Ok(PathOutcome { image: acc.image(), stats, samples: acc.samples, relmse })
 }

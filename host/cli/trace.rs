@@ -22,13 +22,15 @@ pub struct TraceArgs {
     /// order, after degenerate triangles are dropped).
     pub scene: PathBuf,
     /// Rays: float32 .npy of shape (N, 8): origin xyz, tmin, direction xyz, tmax.
-    #[arg(long)]
+    #[arg(long, value_name = "RAYS.npy")]
     pub rays: PathBuf,
     /// Hits: .npy structured array (t f4 +inf on a miss, prim u4 0xFFFFFFFF on a miss, u, v f4).
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(short, long, visible_alias = "out", value_name = "HITS.npy")]
+    pub output: PathBuf,
+    /// BVH builder.
     #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
     pub builder: BuilderKind,
+    /// BVH layout the shader walks.
     #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
     pub layout: LayoutKind,
     /// Any-hit (shadow) queries: stop at the first hit found, not the closest.
@@ -65,7 +67,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let bvh = GpuBvh::upload(&ctx, &flat)?;
     let mut query = RayQuery::new(&ctx, &bvh)?;
     query.order = args.order;
-    let mut writer = HitWriter::create(&args.out, reader.count())?;
+    let mut writer = HitWriter::create(&args.output, reader.count())?;
     let mut report = TraceReport::default();
     loop {
         let rays = reader.next_batch(FILE_BATCH)?;
@@ -88,12 +90,12 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     ctx.check_validation().context("Vulkan validation")?;
     let per_ray = |x: u64| x as f64 / report.rays.max(1) as f64;
     eprintln!(
-        "traced {} rays ({} hit, {} in sorted order) on {} with {:?} / {}: {:.3} M rays/s (upload, sorting, traversal and read-back; build {:.0} ms not counted), {:.1} nodes visited and {:.2} triangles tested per ray",
+        "traced {} rays ({} hit, {} in sorted order) on {} with {} / {}: {:.3} M rays/s (upload, sorting, traversal and read-back; build {:.0} ms not counted), {:.1} nodes visited and {:.2} triangles tested per ray",
         report.rays,
         report.hits,
         report.reordered,
         ctx.info.name,
-        args.builder,
+        args.builder.name(),
         args.layout.name(),
         report.rays as f64 / report.gpu_seconds.max(1e-9) / 1e6,
         build_seconds * 1e3,

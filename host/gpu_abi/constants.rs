@@ -59,6 +59,9 @@ shared_constants! {
     /// `uvec2[]` indexed as `sample_key` with the block width (`crate::integrator::path::adaptive`).
     /// After the decode probe's ten outputs.
     BINDING_BLOCK_SAMPLES = 26;
+    /// The path tracer's rays traced per pixel (`uint[]`, added to by each dispatch): what the
+    /// progress line's rays/s counts. Each pixel is one invocation's, so no atomics.
+    BINDING_RAY_COUNTS = 27;
 
     /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
     /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).

@@ -1,4 +1,5 @@
-//! Images by extension: `.png` (sRGB, 8-bit, clamped), `.exr` and `.pfm` (linear float32).
+//! Images by extension: `.png` (sRGB, 8-bit; values are clipped to [0, 1], so callers pass a
+//! display-referred image, `display::Display::apply`), `.exr` and `.pfm` (linear float32).
 //! Row 0 is the top of every image. Files are written to a temporary name beside the target and
 //! renamed into place, so an existing output is never replaced by a partial one.
 

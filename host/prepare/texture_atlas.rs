@@ -18,7 +18,7 @@ pub const TEXEL_BUDGET_BYTES: usize = 1 << 27;
 pub struct TextureAtlas {
     pub table: Vec<GpuTexture>,
     pub texels: Vec<u32>,
-    /// One line per texture that had to be halved to fit, for the log.
+    /// One warning per texture that had to be halved to fit, for the caller to show.
     pub downsampled: Vec<String>,
 }
 
@@ -54,7 +54,6 @@ impl TextureAtlas {
                     t.height,
                     budget >> 20
                 );
-                eprintln!("warning: {line}");
                 atlas.downsampled.push(line);
             }
             atlas.table.push(GpuTexture { offset: atlas.texels.len() as u32, width: t.width, height: t.height, _pad0: 0 });

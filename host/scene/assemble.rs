@@ -27,9 +27,9 @@ pub fn push_triangles(scene: &mut Scene, triangles: impl IntoIterator<Item = Tri
     }
 }
 
-/// What both loaders do last: refuse an empty scene, frame a camera if the file has none, and
-/// decode the materials' textures.
-pub fn finish_scene(scene: &mut Scene, file: &Path, camera: Option<Camera>) -> anyhow::Result<()> {
+/// What both loaders do last: refuse an empty scene, choose the camera (the file's first, or a
+/// default), and decode the materials' textures.
+pub fn finish_scene(scene: &mut Scene, file: &Path, cameras: Vec<Camera>) -> anyhow::Result<()> {
     if scene.triangles.is_empty() {
         let dropped = scene.stats.dropped_degenerate;
         let msg = if dropped > 0 {
@@ -39,17 +39,100 @@ pub fn finish_scene(scene: &mut Scene, file: &Path, camera: Option<Camera>) -> a
         };
         return Err(InputError::new(file, None, msg).into());
     }
-    scene.camera = camera.unwrap_or_else(|| Camera::framing(&scene.bounds()));
+    scene.stats.interior = cameras.is_empty() && looks_like_a_room(scene);
+    scene.camera = cameras.first().copied().unwrap_or_else(|| default_camera(scene));
+    scene.cameras = cameras;
     // Textures are decoded once per file, here, so that both loaders share the rule.
     super::material_textures::load_material_textures(scene, file, &mut super::texture::TextureCache::default())?;
     Ok(())
 }
 
-/// The light a scene without any gets: directional, from over the camera's shoulder (up and
-/// behind the eye), so that what the camera sees is lit from the front.
-pub fn default_light(camera: &Camera) -> Light {
+/// The light a scene without any gets. Inside a room (`LoadStats::interior`), a point light
+/// below the ceiling above the bounds' centre (a directional light would not get in); else a
+/// directional light from over the camera's shoulder (up and behind the eye), so that what the
+/// camera sees is lit from the front.
+pub fn default_light(scene: &Scene) -> Light {
+    if scene.stats.interior {
+        let bounds = scene.bounds();
+        let centre = bounds.center();
+        // 80 % of the way up to the first surface above the centre.
+        let up = closest_face(scene, centre, Vec3::Y).map_or(0.25 * bounds.extent().y, |(t, _)| 0.8 * t);
+        // Irradiance about 1 at a third of the room's size: I / d^2 (scene::Light's units).
+        let reach = ROOM_LIGHT_REACH * bounds.extent().max_element();
+        return Light::Point { position: centre + Vec3::Y * up, intensity: Vec3::splat(reach * reach) };
+    }
+    let camera = &scene.camera;
     let back = (camera.eye - camera.target).normalize_or_zero();
     let direction = (camera.up.normalize_or_zero() + back).normalize_or_zero();
     let direction = if direction == Vec3::ZERO { Vec3::Y } else { direction };
     Light::Directional { direction, intensity: Vec3::ONE }
+}
+
+/// The camera of a scene file that has none. A model seen from its bounds' centre as a room
+/// (`looks_like_a_room`: Sponza, Conference) gets a camera there, looking along the longer
+/// horizontal axis of the bounds; anything else is framed from outside (`Camera::framing`).
+pub fn default_camera(scene: &Scene) -> Camera {
+    let bounds = scene.bounds();
+    if bounds.is_empty() || !looks_like_a_room(scene) {
+        return Camera::framing(&bounds);
+    }
+    let centre = bounds.center();
+    let e = bounds.extent();
+    let along = if e.x >= e.z { Vec3::X } else { Vec3::Z };
+    Camera { eye: centre, target: centre + along * e.max_element(), up: Vec3::Y, fov_y_deg: ROOM_FOV_DEG }
+}
+
+/// Vertical field of view of the default camera inside a room: wide, as architecture is shot.
+pub const ROOM_FOV_DEG: f32 = 60.0;
+/// The default point light of a room gives irradiance 1 at this fraction of its largest extent.
+const ROOM_LIGHT_REACH: f32 = 0.35;
+
+/// Horizontal directions from the bounds' centre that the room test casts.
+const ROOM_PROBES: usize = 8;
+
+/// True if, from the centre of the scene's bounds, every horizontal direction (the four axes
+/// and the four diagonals) hits a surface, and most of those surfaces face the centre (their
+/// front side, by winding or by the file's normals): the centre is in the open space of an
+/// enclosure. A closed object has its centre inside the solid, where the faces seen are back
+/// faces; an open model lets some rays escape. Brute force over the triangles: 8 rays, run once
+/// per bare model.
+pub fn looks_like_a_room(scene: &Scene) -> bool {
+    let centre = scene.bounds().center();
+    let mut facing = 0;
+    for k in 0..ROOM_PROBES {
+        let a = k as f32 * std::f32::consts::TAU / ROOM_PROBES as f32;
+        let dir = Vec3::new(a.cos(), 0.0, a.sin());
+        let Some((t, front)) = closest_face(scene, centre, dir) else { return false };
+        debug_assert!(t > 0.0);
+        facing += front as usize;
+    }
+    2 * facing > ROOM_PROBES
+}
+
+/// The closest triangle along the ray: its distance, and whether the ray meets its front.
+pub fn closest_face(scene: &Scene, origin: Vec3, dir: Vec3) -> Option<(f32, bool)> {
+    let mut best: Option<(f32, bool)> = None;
+    for tri in &scene.triangles {
+        // Möller & Trumbore 1997: a heuristic needs no watertightness.
+        let (e1, e2) = (tri.p[1] - tri.p[0], tri.p[2] - tri.p[0]);
+        let pv = dir.cross(e2);
+        let det = e1.dot(pv);
+        if det.abs() < 1e-12 {
+            continue;
+        }
+        let s = origin - tri.p[0];
+        let u = s.dot(pv) / det;
+        let q = s.cross(e1);
+        let v = dir.dot(q) / det;
+        let t = e2.dot(q) / det;
+        if u < 0.0 || v < 0.0 || u + v > 1.0 || t <= 0.0 || best.is_some_and(|(b, _)| t >= b) {
+            continue;
+        }
+        let normal = match tri.n {
+            Some(n) => n[0] * (1.0 - u - v) + n[1] * u + n[2] * v,
+            None => e1.cross(e2),
+        };
+        best = Some((t, normal.dot(dir) < 0.0));
+    }
+    best
 }

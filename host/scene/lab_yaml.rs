@@ -81,9 +81,9 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
         Some(s) => lab.skybox(s)?,
         None => None,
     };
-    let camera = match get(root, "Cameras") {
+    let cameras = match get(root, "Cameras") {
         Some(c) => lab.cameras(c)?,
-        None => None,
+        None => Vec::new(),
     };
     let names = match get(root, "Materials") {
         Some(m) => lab.materials(m)?,
@@ -100,7 +100,7 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
     }
 
     let mut scene = lab.scene;
-    finish_scene(&mut scene, path, camera)?;
+    finish_scene(&mut scene, path, cameras)?;
     if let Some(faces) = sky_faces {
         // Faces are decoded after the materials' textures; the six stay consecutive.
         let first_texture = scene.textures.len() as u32;
@@ -115,7 +115,7 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
     if scene.lights.is_empty() && scene.emissive_triangles().is_empty() {
         let msg = "no lights and no emitting material; added a directional light over the camera's shoulder";
         scene.stats.warn(InputError::new(path, None, msg).to_string());
-        scene.lights.push(default_light(&scene.camera));
+        scene.lights.push(default_light(&scene));
         scene.ambient = ambient.unwrap_or(Vec3::splat(0.05));
     }
     Ok(scene)
@@ -262,9 +262,9 @@ impl Lab<'_> {
         Ok(Some(faces))
     }
 
-    /// Parses every camera (so that errors anywhere are reported) and returns the first.
-    fn cameras(&mut self, y: &Yaml) -> anyhow::Result<Option<Camera>> {
-        let mut first = None;
+    /// Parses every camera, in file order.
+    fn cameras(&mut self, y: &Yaml) -> anyhow::Result<Vec<Camera>> {
+        let mut cameras = Vec::new();
         for (i, c) in self.list(y, "Cameras")?.iter().enumerate() {
             let key = format!("Cameras[{i}]");
             let h = self.hash(c, &key)?;
@@ -287,9 +287,9 @@ impl Lab<'_> {
                 }
             }
             cam.frame().map_err(|e| self.err(&key, e.to_string()))?;
-            first.get_or_insert(cam);
+            cameras.push(cam);
         }
-        Ok(first)
+        Ok(cameras)
     }
 
     /// Adds the named materials; returns name -> index into `scene.materials`.

@@ -65,8 +65,11 @@ pub struct Scene {
     /// Lights that are not triangles (point, directional, spot). Emissive triangles are found
     /// from their materials; lab `Area` lights are added as emissive triangles.
     pub lights: Vec<Light>,
-    /// The camera from the file, or one framed on the scene's bounds.
+    /// The camera renders use: the file's first, or for a file without one a default
+    /// (`assemble::default_camera`: inside a room, outside an object).
     pub camera: Camera,
+    /// Every camera the file defines, in file order (`vkrt render --camera N` picks one).
+    pub cameras: Vec<Camera>,
     /// Constant ambient light added to every surface by the Whitted integrator (lab `AmbientIntensity`).
     pub ambient: Vec3,
     /// Decoded textures, indexed by `Material::diffuse_texture`/`alpha_texture` and the sky.
@@ -82,18 +85,20 @@ pub struct Scene {
 pub struct LoadStats {
     /// Zero-area triangles dropped (they can never be hit and would break sampling by area).
     pub dropped_degenerate: usize,
-    /// Warnings already printed, kept for tests and `--verbose`.
+    /// Warnings, for the caller to show (the command line prints them unless `--quiet`).
     pub warnings: Vec<String>,
     /// Every file the loader read (scene file, meshes, material libraries, textures, sky
     /// faces), each once, in the order first read: what a checkpoint hashes to know that a
     /// resumed or merged run renders the same scene.
     pub inputs: Vec<PathBuf>,
+    /// The file has no camera and looks like a room from its bounds' centre
+    /// (`assemble::looks_like_a_room`): the default camera and light are inside it.
+    pub interior: bool,
 }
 
 impl LoadStats {
-    /// Prints a warning and records it.
+    /// Records a warning (loaders print nothing themselves).
     pub fn warn(&mut self, message: String) {
-        eprintln!("warning: {message}");
         self.warnings.push(message);
     }
 

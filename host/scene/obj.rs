@@ -43,11 +43,11 @@ pub fn load_obj(path: &Path) -> anyhow::Result<Scene> {
         scene.stats.read_input(p);
     }
     push_triangles(&mut scene, mesh.triangles);
-    finish_scene(&mut scene, path, None)?;
+    finish_scene(&mut scene, path, Vec::new())?;
     if scene.emissive_triangles().is_empty() {
         // Without an emitter the image would be black: light from over the camera's shoulder,
         // plus a little ambient so that faces turned away are not pitch black.
-        scene.lights.push(default_light(&scene.camera));
+        scene.lights.push(default_light(&scene));
         scene.ambient = Vec3::splat(0.05);
     }
     Ok(scene)
@@ -61,8 +61,8 @@ pub fn load_obj(path: &Path) -> anyhow::Result<Scene> {
 pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::Result<ObjMesh> {
     let bytes =
         std::fs::read(path).map_err(|e| InputError::new(path, None, format!("cannot read the file: {e}")))?;
-    let text = decode_text(path, &bytes)?;
-    let checked = sanitize_obj(path, text)?;
+    let (text, encoding_warning) = decode_text(path, &bytes)?;
+    let checked = sanitize_obj(path, &text)?;
     let obj_dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
 
     // tobj calls this once per `mtllib`; it must be `Fn`, so results are kept in RefCells.
@@ -70,6 +70,7 @@ pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::R
     let mtl_dirs: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
     let mtl_warnings: RefCell<Vec<String>> = RefCell::new(Vec::new());
     let mtl_inputs: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
+    let mtl_missing = std::cell::Cell::new(false);
     let load_mtl = |rel: &Path| -> tobj::MTLLoadResult {
         let empty = Ok((Vec::new(), Default::default()));
         if material_override.is_some() {
@@ -82,10 +83,12 @@ pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::R
                 let msg =
                     format!("material library {} cannot be read; default material used", mtl_path.display());
                 mtl_warnings.borrow_mut().push(InputError::at_line(path, line, msg).to_string());
+                mtl_missing.set(true);
                 empty
             }
-            Ok(Some(lib)) => {
+            Ok(Some((lib, warning))) => {
                 mtl_inputs.borrow_mut().push(mtl_path.clone());
+                mtl_warnings.borrow_mut().extend(warning);
                 let dir = mtl_path.parent().unwrap_or(Path::new("")).to_path_buf();
                 mtl_dirs.borrow_mut().extend(std::iter::repeat(dir).take(lib.0.len()));
                 Ok(lib)
@@ -113,9 +116,10 @@ pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::R
 
     let mut inputs = vec![path.to_path_buf()];
     inputs.extend(mtl_inputs.into_inner());
-    let mut mesh = ObjMesh { warnings: mtl_warnings.into_inner(), inputs, ..ObjMesh::default() };
+    let mut mesh = ObjMesh { warnings: encoding_warning.into_iter().collect(), inputs, ..ObjMesh::default() };
+    mesh.warnings.extend(mtl_warnings.into_inner());
     // With a library missing, every usemtl of it would warn again; one warning says it all.
-    let libraries_missing = !mesh.warnings.is_empty();
+    let libraries_missing = mtl_missing.get();
     mesh.warnings.extend(checked.warnings);
     if material_override.is_none() {
         // An error here is only tobj passing on ours, already handled above.
@@ -160,22 +164,39 @@ struct CheckedObj {
     warnings: Vec<String>,
 }
 
-/// Decodes a text file, rejecting binary content and non-UTF-8 with the line it starts on.
-fn decode_text<'a>(path: &Path, bytes: &'a [u8]) -> anyhow::Result<&'a str> {
+/// Decodes a text file, rejecting binary content with the line it starts on. Text that is not
+/// UTF-8 (older exporters write names in Latin-1 or Windows-1252, "Terraindæk") is read as
+/// Latin-1: every byte becomes one character, so names keep their bytes and `usemtl` still
+/// matches `newmtl`; the second value is then a warning to show once for the file.
+fn decode_text<'a>(path: &Path, bytes: &'a [u8]) -> anyhow::Result<(std::borrow::Cow<'a, str>, Option<String>)> {
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
         return Err(InputError::at_line(path, 1, "the file is UTF-16 text; save it as UTF-8").into());
     }
     let line_of = |at: usize| bytes.get(..at).map_or(1, |b| b.iter().filter(|&&c| c == b'\n').count() + 1);
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        InputError::at_line(path, line_of(e.valid_up_to()), "not UTF-8 text (a binary file?)")
-    })?;
-    if let Some(at) = bytes.iter().position(|&c| c == 0) {
-        return Err(
-            InputError::at_line(path, line_of(at), "NUL byte: a binary file, not OBJ/MTL text").into()
-        );
+    // ASCII control characters other than tab, line ends and form feed do not occur in text
+    // (a ^Z that ends the file, as old DOS editors wrote, aside).
+    let binary = |i: usize, c: u8| match c {
+        0 => true,
+        b'\t' | b'\n' | b'\r' | 0x0b | 0x0c => false,
+        0x1a => i + 1 != bytes.len(),
+        c => c < 0x20 || c == 0x7f,
+    };
+    if let Some(at) = bytes.iter().enumerate().position(|(i, &c)| binary(i, c)) {
+        let what = if bytes[at] == 0 { "NUL byte" } else { "control character" };
+        let msg = format!("{what} 0x{:02x}: a binary file, not OBJ/MTL text", bytes[at]);
+        return Err(InputError::at_line(path, line_of(at), msg).into());
     }
-    // A UTF-8 byte-order mark would glue itself to the first keyword and hide that line.
-    Ok(text.strip_prefix('\u{feff}').unwrap_or(text))
+    let bytes = bytes.strip_suffix(&[0x1a]).unwrap_or(bytes);
+    match std::str::from_utf8(bytes) {
+        // A UTF-8 byte-order mark would glue itself to the first keyword and hide that line.
+        Ok(text) => Ok((std::borrow::Cow::Borrowed(text.strip_prefix('\u{feff}').unwrap_or(text)), None)),
+        Err(e) => {
+            let line = line_of(e.valid_up_to());
+            let text: String = bytes.iter().map(|&b| char::from(b)).collect();
+            let msg = format!("not UTF-8 (from line {line}); read as Latin-1, so names keep their bytes");
+            Ok((std::borrow::Cow::Owned(text), Some(InputError::at_line(path, line, msg).to_string())))
+        }
+    }
 }
 
 /// The part of a line before a `#` comment, split into words.
@@ -354,14 +375,15 @@ fn check_corner(
 /// What `tobj::load_mtl_buf` returns: the materials and a name -> index map.
 type MtlLib = <tobj::MTLLoadResult as IntoIterator>::Item;
 
-/// Reads and checks an MTL file. `Ok(None)`: it cannot be read (the caller warns).
-fn read_mtl(path: &Path) -> anyhow::Result<Option<MtlLib>> {
+/// Reads and checks an MTL file, with a warning if it is not UTF-8. `Ok(None)`: it cannot be
+/// read (the caller warns).
+fn read_mtl(path: &Path) -> anyhow::Result<Option<(MtlLib, Option<String>)>> {
     let Ok(bytes) = std::fs::read(path) else { return Ok(None) };
-    let text = decode_text(path, &bytes)?;
-    let clean = sanitize_mtl(path, text)?;
+    let (text, warning) = decode_text(path, &bytes)?;
+    let clean = sanitize_mtl(path, &text)?;
     let loaded = tobj::load_mtl_buf(&mut clean.as_bytes())
         .map_err(|e| InputError::new(path, None, format!("MTL parser (tobj) failed: {e}")))?;
-    Ok(Some(loaded))
+    Ok(Some((loaded, warning)))
 }
 
 /// Checks the numeric MTL lines tobj reads (it panics on a colour with fewer than 3 numbers)

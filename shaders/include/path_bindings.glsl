@@ -11,6 +11,8 @@ layout(std430, set = 0, binding = BINDING_ACCUM_EVEN) buffer AccumEven { vec4 ac
 // Adaptive sampling: (first sample index, count) per block of params.adaptive pixels in a
 // row, keyed as sample_key. Read once per invocation, so a storage buffer.
 layout(std430, set = 0, binding = BINDING_BLOCK_SAMPLES) readonly buffer BlockSamples { uvec2 block_samples[]; };
+// Rays traced per pixel (closest-hit and shadow rays), for the progress line's rays/s.
+layout(std430, set = 0, binding = BINDING_RAY_COUNTS) buffer RayCounts { uint ray_counts[]; };
 
 #ifndef LAYOUT_PROBE
 // The light-selection table is read at a per-lane index: an RGBA32UI texel buffer, as the

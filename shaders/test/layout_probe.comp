@@ -41,4 +41,5 @@ void main() {
     accum[0] = vec4(s);
     hits[0].t = s;
     accum_even[0] = vec4(s);
+    ray_counts[0] = uint(s);
 }

@@ -39,10 +39,12 @@ pub struct InputHash {
 }
 
 /// What makes two runs render the same scene.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Identity {
-    /// Every input file's content and the `--sky` override ("" for the scene's own sky).
-    Inputs { inputs: Vec<InputHash>, sky: String },
+    /// Every input file's content, the `--sky` override ("" for the scene's own sky) and the
+    /// camera the run used (eye, target, up, vertical field of view in degrees: after any
+    /// `--camera`, `--eye`... choice).
+    Inputs { inputs: Vec<InputHash>, sky: String, camera: [f32; 10] },
     /// A checkpoint from before format 4: only the FNV-1a hash of the scene file itself.
     SceneFile { fnv: u64 },
 }
@@ -58,10 +60,25 @@ pub fn hash_inputs(paths: &[PathBuf]) -> Result<Vec<InputHash>> {
         .collect()
 }
 
+/// How a resumed run goes on when its command line says nothing more: what the first run was
+/// asked for. Not part of the render's identity. Empty in checkpoints before format 4.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ResumeDefaults {
+    /// The output image (absolute path).
+    pub output: String,
+    /// The BVH builder and layout names (`--builder`, `--layout` values).
+    pub builder: String,
+    pub layout: String,
+    /// The stop rules (`--spp`, `--time`, `--target-relmse`).
+    pub spp: Option<u64>,
+    pub seconds: Option<f64>,
+    pub target_relmse: Option<f64>,
+}
+
 /// The settings a checkpoint must agree on to be resumed or merged.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RunSettings {
-    /// The scene file as given on the command line (for messages).
+    /// The scene file (absolute path; as given by checkpoints before format 4).
     pub scene_path: String,
     /// The content of the scene's files and the sky: a changed scene is a different render.
     pub identity: Identity,
@@ -80,25 +97,38 @@ pub struct RunSettings {
     pub nee: u32,
     /// Pixels in a row sharing sample numbers (`PathSettings::coherence`).
     pub coherence: u32,
+    /// What the run was asked for, to go on with when resumed.
+    pub resume: ResumeDefaults,
+}
+
+/// The name of a `SAMPLER_*` value, as `--sampler` spells it.
+fn sampler_name(v: u32) -> String {
+    super::SamplerKind::from_gpu_value(v).map_or(format!("unknown sampler {v}"), |k| k.name().to_string())
+}
+
+/// A max depth as `--max-depth` reads.
+fn depth_name(v: u32) -> String {
+    if v == crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED { "unbounded".into() } else { v.to_string() }
 }
 
 impl RunSettings {
     /// Fails, naming the first difference, unless `self` and `other` render the same image
-    /// (seeds aside).
-    pub fn check_same_render(&self, other: &RunSettings) -> Result<()> {
-        check_same_scene(&self.identity, &other.identity, &self.scene_path, &other.scene_path)?;
+    /// (seeds aside); `names` say what each is in the message ("the checkpoint", "this run").
+    pub fn check_same_render(&self, other: &RunSettings, names: (&str, &str)) -> Result<()> {
+        let (a_name, b_name) = names;
+        check_same_scene(&self.identity, &other.identity, a_name, b_name)?;
         let checks: [(&str, String, String); 7] = [
             ("size", format!("{}x{}", self.width, self.height), format!("{}x{}", other.width, other.height)),
             ("integrator", self.integrator.clone(), other.integrator.clone()),
-            ("sampler", self.sampler.to_string(), other.sampler.to_string()),
+            ("sampler", sampler_name(self.sampler), sampler_name(other.sampler)),
             ("sample rate", self.sample_rate.to_string(), other.sample_rate.to_string()),
-            ("max depth", self.max_depth.to_string(), other.max_depth.to_string()),
-            ("light sampling (nee)", self.nee.to_string(), other.nee.to_string()),
+            ("max depth", depth_name(self.max_depth), depth_name(other.max_depth)),
+            ("light sampling", if self.nee != 0 { "on" } else { "off (--no-nee)" }.into(), if other.nee != 0 { "on" } else { "off (--no-nee)" }.into()),
             ("coherence", self.coherence.to_string(), other.coherence.to_string()),
         ];
         for (what, a, b) in checks {
             if a != b {
-                bail!("{what} differs: {a} ({}) vs {b} ({})", self.scene_path, other.scene_path);
+                bail!("{what} differs: {a} ({a_name}) vs {b} ({b_name})");
             }
         }
         Ok(())
@@ -109,7 +139,7 @@ impl RunSettings {
 /// identity (the scene file's hash alone) can only be compared with another one.
 fn check_same_scene(a: &Identity, b: &Identity, a_name: &str, b_name: &str) -> Result<()> {
     match (a, b) {
-        (Identity::Inputs { inputs: ia, sky: sa }, Identity::Inputs { inputs: ib, sky: sb }) => {
+        (Identity::Inputs { inputs: ia, sky: sa, camera: ca }, Identity::Inputs { inputs: ib, sky: sb, camera: cb }) => {
             if ia.len() != ib.len() {
                 let list = |v: &[InputHash]| v.iter().map(|i| i.path.as_str()).collect::<Vec<_>>().join(", ");
                 bail!(
@@ -134,6 +164,9 @@ fn check_same_scene(a: &Identity, b: &Identity, a_name: &str, b_name: &str) -> R
                 let show = |s: &str| if s.is_empty() { "the scene's own".to_string() } else { format!("--sky {s}") };
                 bail!("sky differs: {} ({a_name}) vs {} ({b_name})", show(sa), show(sb));
             }
+            if ca.map(f32::to_bits) != cb.map(f32::to_bits) {
+                bail!("camera differs: {} ({a_name}) vs {} ({b_name})", camera_flags(ca), camera_flags(cb));
+            }
             Ok(())
         }
         (Identity::SceneFile { fnv: fa }, Identity::SceneFile { fnv: fb }) => {
@@ -153,6 +186,11 @@ fn check_same_scene(a: &Identity, b: &Identity, a_name: &str, b_name: &str) -> R
 /// FNV-1a (64-bit) of `bytes`: a cheap content fingerprint, not a cryptographic hash.
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+/// A camera `[eye, target, up, fov]` in `vkrt render`'s own flags.
+pub fn camera_flags(c: &[f32; 10]) -> String {
+    format!("--eye {},{},{} --target {},{},{} --up {},{},{} --fov {}", c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9])
 }
 
 /// The FNV-1a hash of a file's content: the identity checkpoints before format 4 stored.
@@ -247,12 +285,24 @@ impl Checkpoint {
         for r in &self.accum.rates {
             out.extend_from_slice(&r.to_le_bytes());
         }
-        if let Identity::Inputs { inputs, sky } = &s.identity {
+        if let Identity::Inputs { inputs, sky, camera } = &s.identity {
             put_str(&mut out, sky);
             out.extend_from_slice(&(inputs.len() as u32).to_le_bytes());
             for i in inputs {
                 put_str(&mut out, &i.path);
                 out.extend_from_slice(&i.hash.to_le_bytes());
+            }
+            for c in camera {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+            let r = &s.resume;
+            for text in [&r.output, &r.builder, &r.layout] {
+                put_str(&mut out, text);
+            }
+            // 0 and NaN: not given.
+            out.extend_from_slice(&r.spp.unwrap_or(0).to_le_bytes());
+            for x in [r.seconds, r.target_relmse] {
+                out.extend_from_slice(&x.unwrap_or(f64::NAN).to_le_bytes());
             }
         }
         out
@@ -312,9 +362,22 @@ impl Checkpoint {
             let inputs = (0..n)
                 .map(|_| Ok(InputHash { path: r.string("input path")?, hash: r.u64("input hash")? }))
                 .collect::<Result<Vec<_>>>()?;
-            Identity::Inputs { inputs, sky }
+            let mut camera = [0.0f32; 10];
+            for c in &mut camera {
+                *c = f32::from_bits(r.u32("camera")?);
+            }
+            Identity::Inputs { inputs, sky, camera }
         } else {
             Identity::SceneFile { fnv: scene_hash }
+        };
+        let resume = if version > VERSION_BEFORE_INPUTS {
+            let (output, builder, layout) = (r.string("output")?, r.string("builder")?, r.string("layout")?);
+            let spp = Some(r.u64("stop spp")?).filter(|&n| n > 0);
+            let mut given = || -> Result<Option<f64>> { Ok(Some(f64::from_bits(r.u64("stop")?)).filter(|x| !x.is_nan())) };
+            let (seconds, target_relmse) = (given()?, given()?);
+            ResumeDefaults { output, builder, layout, spp, seconds, target_relmse }
+        } else {
+            ResumeDefaults::default()
         };
         if r.pos != data.len() {
             bail!("{} unexpected bytes after the data", data.len() - r.pos);
@@ -332,6 +395,7 @@ impl Checkpoint {
                 max_depth,
                 nee,
                 coherence,
+                resume,
             },
             accum: Accumulation { width, height, samples, even_samples, sum, even, per_pixel, rates },
         })
@@ -357,9 +421,9 @@ impl Checkpoint {
     }
 
     /// Adds `other`'s samples: same render, disjoint seeds (the same seed twice would count the
-    /// same samples twice).
-    pub fn merge(&mut self, other: &Checkpoint) -> Result<()> {
-        self.settings.check_same_render(&other.settings).context("cannot merge different renders")?;
+    /// same samples twice). `names` say which is which in messages.
+    pub fn merge(&mut self, other: &Checkpoint, names: (&str, &str)) -> Result<()> {
+        self.settings.check_same_render(&other.settings, names).context("cannot merge different renders")?;
         if let Some(seed) = other.settings.seeds.iter().find(|s| self.settings.seeds.contains(s)) {
             bail!("both runs used seed {seed}: their samples are the same, merging would count them twice");
         }
@@ -373,6 +437,12 @@ impl Checkpoint {
 mod tests {
     use super::*;
 
+    impl Checkpoint {
+        fn merge_for_test(&mut self, other: &Checkpoint) -> Result<()> {
+            self.merge(other, ("a", "b"))
+        }
+    }
+
     fn sample(seed: u32) -> Checkpoint {
         let mut accum = Accumulation::new(3, 2);
         accum.samples = 5;
@@ -385,16 +455,25 @@ mod tests {
             identity: Identity::Inputs {
                 inputs: vec![InputHash { path: "a.yaml".into(), hash: 42 }, InputHash { path: "a.obj".into(), hash: 43 }],
                 sky: String::new(),
+                camera: [0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 45.0],
             },
             width: 3,
             height: 2,
             seeds: vec![seed],
             integrator: "path".into(),
-            sampler: 1,
+            sampler: crate::gpu_abi::constants::SAMPLER_SOBOL,
             sample_rate: 4,
             max_depth: u32::MAX,
             nee: 1,
             coherence: 1,
+            resume: ResumeDefaults {
+                output: "/x/a.exr".into(),
+                builder: "sah".into(),
+                layout: "threaded".into(),
+                spp: Some(64),
+                seconds: None,
+                target_relmse: Some(1e-3),
+            },
         };
         Checkpoint { settings, accum }
     }
@@ -414,6 +493,7 @@ mod tests {
     fn legacy(seed: u32) -> Checkpoint {
         let mut c = sample(seed);
         c.settings.identity = Identity::SceneFile { fnv: 42 };
+        c.settings.resume = ResumeDefaults::default();
         c
     }
 
@@ -456,27 +536,37 @@ mod tests {
     #[test]
     fn merge_needs_the_same_render_and_new_seeds() {
         let mut a = sample(1);
-        assert!(a.merge(&sample(1)).is_err(), "merged a seed with itself");
+        assert!(a.merge_for_test(&sample(1)).is_err(), "merged a seed with itself");
         // Any input file's content, or the sky, makes it another render, named in the error.
         let mut other = sample(2);
         if let Identity::Inputs { inputs, .. } = &mut other.settings.identity {
             inputs[1].hash = 44;
         }
-        let e = a.merge(&other).map(|_| ()).unwrap_err();
+        let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
         assert!(format!("{e:#}").contains("a.obj changed"), "{e:#}");
         let mut other = sample(2);
         if let Identity::Inputs { sky, .. } = &mut other.settings.identity {
             *sky = "1,1,1".into();
         }
-        let e = a.merge(&other).map(|_| ()).unwrap_err();
+        let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
         assert!(format!("{e:#}").contains("sky differs"), "{e:#}");
-        assert!(a.merge(&legacy(2)).is_err(), "merged a format-3 checkpoint with a format-4 one");
+        let mut other = sample(2);
+        if let Identity::Inputs { camera, .. } = &mut other.settings.identity {
+            camera[9] = 50.0;
+        }
+        let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
+        assert!(format!("{e:#}").contains("camera differs") && format!("{e:#}").contains("--fov 50"), "{e:#}");
+        let mut other = sample(2);
+        other.settings.sampler = crate::gpu_abi::constants::SAMPLER_INDEPENDENT;
+        let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
+        assert!(format!("{e:#}").contains("sampler differs: sobol") && format!("{e:#}").contains("independent"), "{e:#}");
+        assert!(a.merge_for_test(&legacy(2)).is_err(), "merged a format-3 checkpoint with a format-4 one");
         let mut old = legacy(1);
         let mut changed = legacy(2);
         changed.settings.identity = Identity::SceneFile { fnv: 7 };
-        assert!(old.merge(&changed).is_err(), "merged format-3 checkpoints of different scene files");
-        assert!(old.merge(&legacy(2)).is_ok());
-        a.merge(&sample(2)).ok();
+        assert!(old.merge_for_test(&changed).is_err(), "merged format-3 checkpoints of different scene files");
+        assert!(old.merge_for_test(&legacy(2)).is_ok());
+        a.merge_for_test(&sample(2)).ok();
         assert_eq!(a.accum.samples, 10);
         assert_eq!(a.settings.seeds, vec![1, 2]);
         assert_eq!(a.accum.sum[1], [2.0, 1.0, 3.0, 0.0]);

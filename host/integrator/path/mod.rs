@@ -32,11 +32,27 @@ pub enum SamplerKind {
 }
 
 impl SamplerKind {
+    pub const ALL: [SamplerKind; 3] = [SamplerKind::Sobol, SamplerKind::Independent, SamplerKind::Stratified];
+
     pub fn gpu_value(self) -> u32 {
         match self {
             Self::Sobol => SAMPLER_SOBOL,
             Self::Independent => SAMPLER_INDEPENDENT,
             Self::Stratified => SAMPLER_STRATIFIED,
+        }
+    }
+
+    /// The sampler a `SAMPLER_*` value names.
+    pub fn from_gpu_value(v: u32) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.gpu_value() == v)
+    }
+
+    /// The name `--sampler` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sobol => "sobol",
+            Self::Independent => "independent",
+            Self::Stratified => "stratified",
         }
     }
 }

@@ -15,6 +15,7 @@ pub const PATH_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_PATH_PARAMS, BindingKind::Uniform),
     (BINDING_ACCUM_EVEN, BindingKind::Storage),
     (BINDING_BLOCK_SAMPLES, BindingKind::Storage),
+    (BINDING_RAY_COUNTS, BindingKind::Storage),
 ];
 
 /// The settings as the shader reads them, with the scene's light table (already on the GPU).

@@ -23,8 +23,10 @@ use anyhow::{bail, Context as _, Result};
 use ash::vk;
 use std::time::Instant;
 
-/// Seconds between read-backs that refresh the error estimate.
+/// The least seconds between read-backs that refresh the error estimate.
 const ESTIMATE_INTERVAL_S: f64 = 1.0;
+/// A read-back takes at most this share of the run: big images refresh the estimate less often.
+const ESTIMATE_TIME_SHARE: f64 = 0.05;
 
 /// A path-traced render's GPU side: its uniforms, accumulation buffers and pipeline.
 struct PathGpu<'a> {
@@ -32,6 +34,8 @@ struct PathGpu<'a> {
     even: Buffer<'a>,
     /// Each block's (first sample, count) for the next batch of an adaptive run.
     blocks: Buffer<'a>,
+    /// Rays traced per pixel, for rays/s.
+    rays: Buffer<'a>,
     pipeline: ComputePipeline<'a>,
     // Bound to the pipeline; kept alive with it.
     _frame: Buffer<'a>,
@@ -55,6 +59,8 @@ impl<'a> PathGpu<'a> {
         sum.write(bytemuck::cast_slice(&acc.sum))?;
         even.write(bytemuck::cast_slice(&acc.even))?;
         let blocks = Buffer::new(ctx, "block samples", block_count as u64 * 8, storage, MemoryLocation::Device)?;
+        let rays = Buffer::new(ctx, "ray counts", pixels * 4, storage, MemoryLocation::Device)?;
+        rays.clear()?;
         let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
         let features = img.features(&scene.info);
         let pipeline = ComputePipeline::specialized(
@@ -75,9 +81,10 @@ impl<'a> PathGpu<'a> {
                 (BINDING_PATH_PARAMS, &params_buf),
                 (BINDING_ACCUM_EVEN, &even),
                 (BINDING_BLOCK_SAMPLES, &blocks),
+                (BINDING_RAY_COUNTS, &rays),
             ],
         )?;
-        Ok(Self { sum, even, blocks, pipeline, _frame: frame_buf, _params: params_buf })
+        Ok(Self { sum, even, blocks, rays, pipeline, _frame: frame_buf, _params: params_buf })
     }
 
     /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
@@ -92,6 +99,13 @@ impl<'a> PathGpu<'a> {
         acc.per_pixel = like.per_pixel;
         acc.rates = like.rates.clone();
         Ok(acc)
+    }
+
+    /// Rays traced so far in this run, over all pixels.
+    fn rays_traced(&self, pixels: usize) -> Result<u64> {
+        let mut total = 0u64;
+        self.rays.read_with(pixels, |counts: &[u32]| total = counts.iter().map(|&c| u64::from(c)).sum())?;
+        Ok(total)
     }
 }
 
@@ -146,7 +160,9 @@ pub fn render(
     let batch = img.samples_per_batch.max(1) as u64;
     let empty = scene.bvh.triangle_count == 0;
     let mut run = RunState { samples: acc.samples, first_sample: acc.samples, ..RunState::default() };
-    let (mut last_estimate, mut last_checkpoint) = (start, start);
+    let (mut last_estimate, mut last_checkpoint, mut last_snapshot) = (start, start, start);
+    // How long a read-back for the estimate took, and the rays counted at the last one.
+    let (mut read_s, mut rays_per_second) = (0.0f64, None);
     loop {
         run.seconds = start.elapsed().as_secs_f64();
         if stop.holds(&run) || (empty && run.samples > run.first_sample) {
@@ -185,11 +201,24 @@ pub fn render(
         }
         run.last_batch_s = t_batch.elapsed().as_secs_f64();
         let now = Instant::now();
-        let want_estimate = stop.target_relmse.is_some() || hooks.checkpoint.is_some();
-        if want_estimate && now.duration_since(last_estimate).as_secs_f64() >= ESTIMATE_INTERVAL_S {
+        let want_estimate = stop.target_relmse.is_some() || hooks.checkpoint.is_some() || hooks.progress.is_some();
+        let interval = ESTIMATE_INTERVAL_S.max(read_s / ESTIMATE_TIME_SHARE);
+        if want_estimate && now.duration_since(last_estimate).as_secs_f64() >= interval {
             acc = gpu.read(&acc, run.samples)?;
             run.relmse = acc.estimate_relmse();
+            if hooks.progress.is_some() {
+                let rays = gpu.rays_traced(pixels as usize)?;
+                rays_per_second = Some(rays as f64 / start.elapsed().as_secs_f64().max(1e-9));
+            }
             last_estimate = now;
+            read_s = now.elapsed().as_secs_f64();
+        }
+        if let Some(hook) = hooks.snapshot.as_mut() {
+            if now.duration_since(last_snapshot).as_secs_f64() >= hooks.snapshot_interval_s {
+                acc = gpu.read(&acc, run.samples)?;
+                hook(&acc)?;
+                last_snapshot = now;
+            }
         }
         if let Some(hook) = hooks.checkpoint.as_mut() {
             if now.duration_since(last_checkpoint).as_secs_f64() >= hooks.checkpoint_interval_s {
@@ -203,8 +232,10 @@ pub fn render(
             let at = RunState { seconds, ..run };
             progress(&PathProgress {
                 samples: run.samples,
+                target_spp: stop.spp,
                 seconds,
                 samples_per_second: (run.samples - run.first_sample) as f64 * pixels as f64 / seconds.max(1e-9),
+                rays_per_second,
                 relmse: run.relmse,
                 fraction: stop.fraction(&at),
             });
