@@ -57,6 +57,7 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
         file: path,
         dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
         scene: Scene::default(),
+        meshes: HashMap::new(),
     };
     lab.scene.stats.read_input(path);
     if docs.len() > 1 {
@@ -155,6 +156,9 @@ struct Lab<'a> {
     file: &'a Path,
     dir: PathBuf,
     scene: Scene,
+    /// `Models` meshes read so far, by file and material: a mesh placed many times (a grid
+    /// of 100 statues) is parsed once.
+    meshes: HashMap<(PathBuf, u32), Vec<Triangle>>,
 }
 
 impl Lab<'_> {
@@ -367,16 +371,20 @@ impl Lab<'_> {
                 .map(|t| self.vec3(t, &child(&key, "Translation")))
                 .transpose()?
                 .unwrap_or(Vec3::ZERO);
-            let mesh = load_obj_meshes(&mesh_path, Some(material))
-                .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
-            for w in mesh.warnings {
-                self.scene.stats.warn(w);
+            let cache_key = (mesh_path.clone(), material);
+            if !self.meshes.contains_key(&cache_key) {
+                let mesh = load_obj_meshes(&mesh_path, Some(material))
+                    .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
+                for w in mesh.warnings {
+                    self.scene.stats.warn(w);
+                }
+                for p in &mesh.inputs {
+                    self.scene.stats.read_input(p);
+                }
+                self.meshes.insert(cache_key.clone(), mesh.triangles);
             }
-            for p in &mesh.inputs {
-                self.scene.stats.read_input(p);
-            }
-            let triangles = mesh.triangles.into_iter().map(|t| transform(t, scale, shift));
-            push_triangles(&mut self.scene, triangles);
+            let mesh = self.meshes.get(&cache_key).map(Vec::as_slice).unwrap_or_default();
+            push_triangles(&mut self.scene, mesh.iter().map(|&t| transform(t, scale, shift)));
         }
         Ok(())
     }
