@@ -21,7 +21,8 @@
 #include "bsdf.glsl"
 #include "lights.glsl"
 
-layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y) in;
+// Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
+layout(local_size_x_id = SPEC_WORKGROUP_X, local_size_y_id = SPEC_WORKGROUP_Y) in;
 
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 

@@ -8,7 +8,8 @@
 #include "bvh_bindings.glsl"
 #include "traverse.glsl"
 
-layout(local_size_x = WORKGROUP_SIZE_1D) in;
+// Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
+layout(local_size_x_id = SPEC_WORKGROUP_1D) in;
 
 layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
 layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer Hits { GpuHit hits[]; };

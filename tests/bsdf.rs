@@ -63,7 +63,7 @@ fn run_probe(mats: &[Material]) -> Vec<Probe> {
     pipeline.bind(BINDING_MATERIALS, &mat_buf).unwrap();
     pipeline.bind(BINDING_ACCUM, &out).unwrap();
     let push = GpuPush { sample_count: SAMPLES, sample_base: 1234, ..bytemuck::Zeroable::zeroed() };
-    let groups = [(count as u32).div_ceil(WORKGROUP_SIZE_1D), 1, 1];
+    let groups = [(count as u32).div_ceil(ctx.workgroups.d1), 1, 1];
     submit_and_wait(&ctx, "bsdf probe", |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups)).unwrap();
     let raw: Vec<[f32; 4]> = out.read_as(count as usize * 3).unwrap();
     common::assert_no_validation_messages(&ctx);

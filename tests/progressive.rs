@@ -82,7 +82,7 @@ fn stops_on_time_and_on_target_error() {
 }
 
 fn vkrt(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_vkrt")).args(args).output().unwrap()
+    Command::new(common::vkrt_bin()).args(args).output().unwrap()
 }
 
 #[test]

@@ -32,7 +32,7 @@ fn run_probe(kind: u32, seed: u32) -> Vec<Vec<[[f32; 2]; PAIRS]>> {
     let pipeline = ComputePipeline::new(&ctx, "sampler probe", &common::probe_spirv("sampler_probe"), &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
     pipeline.bind(BINDING_ACCUM, &out).unwrap();
     let push = GpuPush { sample_count: N, total_spp: PIXELS, sample_base: seed, ray_count: kind, ..bytemuck::Zeroable::zeroed() };
-    let groups = [(count as u32).div_ceil(WORKGROUP_SIZE_1D), 1, 1];
+    let groups = [(count as u32).div_ceil(ctx.workgroups.d1), 1, 1];
     submit_and_wait(&ctx, "sampler probe", |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups)).unwrap();
     let raw: Vec<[f32; 2]> = out.read_as(count as usize * PAIRS).unwrap();
     common::assert_no_validation_messages(&ctx);

@@ -101,7 +101,7 @@ fn check_probe<'a>(ctx: &'a Context, probe: &[u8], nodes: impl FnOnce(&mut commo
         pipeline.bind(c.out_binding, &c.out).unwrap();
     }
     let most = cases.iter().map(|c| c.count).max().unwrap_or(0);
-    let groups = [most.div_ceil(WORKGROUP_SIZE_1D), 1, 1];
+    let groups = [most.div_ceil(ctx.workgroups.d1), 1, 1];
     submit_and_wait(ctx, "texel decode probe", |cmd| pipeline.record_dispatch(cmd, &[], groups)).unwrap();
     for c in &cases {
         eprintln!("checking {}", c.name);

@@ -6,31 +6,26 @@
 #
 #   [LAYOUTS="threaded wide ..."] tools/bench_binaries.sh ROUNDS NAME=PATH [NAME=PATH ...]
 #
-# Workloads: `vkrt trace` on Conference and Sponza (SAH), primary rays (1024^2 pinhole) and 1M
-# incoherent rays, both from tools/embree_compare.py's generators (needs numpy); and a 16 spp
-# 512x512 path-traced render of scenes/cornell-measured (render seconds as vkrt reports them).
-# Each workload runs once per layout in LAYOUTS (default: threaded), so one binary can also
-# compare layouts.
+# Workloads: `vkrt trace` on Conference and Sponza (SAH), 1M primary rays (the scene's camera,
+# 1024^2) and 1M incoherent rays, made by `vkrt rays` (of GEN, default target/release/vkrt);
+# a 16 spp 512x512 path-traced render of scenes/cornell-measured and a 1024x768 depth-7 Whitted
+# render of White Oak (render seconds as vkrt reports them). Each workload runs once per layout
+# in LAYOUTS (default: threaded), so one binary can also compare layouts.
 set -euo pipefail
 rounds=${1:?usage: tools/bench_binaries.sh ROUNDS NAME=PATH [NAME=PATH ...]}
 shift
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
 shared=${VKRT_SHARED:-$root/../shared}
+gen=${GEN:-$root/target/release/vkrt}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-python3 - "$tmp" "$shared" "$here" <<'PY'
-import sys
-sys.path.insert(0, sys.argv[3])
-import numpy as np
-import embree_compare as e
-tmp, shared = sys.argv[1], sys.argv[2]
-for name, path in [("conference", f"{shared}/scenes/conference/conference.obj"), ("sponza", f"{shared}/scenes/sponza-dabrovic/sponza.obj")]:
-    tris = e.load_obj(path)
-    lo, hi = tris.reshape(-1, 3).min(0), tris.reshape(-1, 3).max(0)
-    np.save(f"{tmp}/{name}-primary.npy", e.primary_rays(lo, hi, 1024))
-    np.save(f"{tmp}/{name}-incoherent.npy", e.incoherent_rays(lo, hi, 1 << 20, np.random.default_rng(1)))
-PY
+for scene in conference sponza; do
+  obj="$shared/scenes/conference/conference.obj"
+  [ "$scene" = sponza ] && obj="$shared/scenes/sponza-dabrovic/sponza.obj"
+  "$gen" rays "$obj" --kind primary --width 1024 --height 1024 -o "$tmp/$scene-primary.npy" 2>/dev/null
+  "$gen" rays "$obj" --kind incoherent --count $((1 << 20)) -o "$tmp/$scene-incoherent.npy" 2>/dev/null
+done
 declare -A results
 for _ in $(seq "$rounds"); do
   for pair in "$@"; do
@@ -41,13 +36,16 @@ for _ in $(seq "$rounds"); do
         [ "$scene" = sponza ] && obj="$shared/scenes/sponza-dabrovic/sponza.obj"
         for kind in primary incoherent; do
           rate=$("$bin" trace "$obj" --rays "$tmp/$scene-$kind.npy" --out "$tmp/hits.npy" --layout "$layout" 2>&1 \
-            | grep -o '[0-9.]* M rays/s' | cut -d' ' -f1)
+            | grep -o '[0-9.]* M rays/s' | head -1 | cut -d' ' -f1)
           results["$name|$scene $kind (M rays/s)"]+="$rate "
         done
       done
       secs=$("$bin" render "$root/scenes/cornell-measured/cornell.yaml" --integrator path --spp 16 --width 512 --height 512 \
         --layout "$layout" -o "$tmp/path.pfm" 2>&1 | grep -o 'in [0-9.]* s on' | cut -d' ' -f2)
       results["$name|path cornell 512^2 16 spp (s)"]+="$secs "
+      secs=$("$bin" render "$shared/scenes/lab/white_oak/white_oak.yaml" --width 1024 --height 768 --layout "$layout" \
+        -o "$tmp/oak.pfm" 2>&1 | grep -o 'in [0-9.]* s on' | cut -d' ' -f2)
+      results["$name|whitted white oak 1024x768 (s)"]+="$secs "
     done
   done
 done
@@ -56,9 +54,8 @@ echo "|---|---|---:|---:|---|"
 for key in $(printf '%s\n' "${!results[@]}" | tr ' ' '~' | sort); do
   k=${key//\~/ }
   vals=${results[$k]}
-  read -r best median < <(python3 -c "
-import statistics, sys
-v = [float(x) for x in sys.argv[2:]]
-print(max(v) if sys.argv[1] == 'rate' else min(v), statistics.median(v))" "$([[ $k == *rays/s* ]] && echo rate || echo secs)" $vals)
+  # Best: the highest rate or the lowest time; median of the rounds.
+  read -r best median < <(tr ' ' '\n' <<<"$vals" | grep . | sort -g | awk -v rate="$([[ $k == *rays/s* ]] && echo 1 || echo 0)" \
+    '{v[NR]=$1} END {m = (NR % 2) ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2; print (rate ? v[NR] : v[1]), m}')
   echo "| ${k%%|*} | ${k#*|} | $best | $median | $vals|"
 done

@@ -26,6 +26,12 @@ pub struct CompareArgs {
     /// Print the metrics as one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Box-filter IMAGE down to the reference's size first: IMAGE must be a whole multiple of
+    /// it (e.g. a 1024² render against a 512² reference). Under a box pixel filter the mean of
+    /// k x k pixels is the k-times-larger pixel, so the comparison is fair; its relMSE is about
+    /// 1/k² of the full-size image's, since k² pixels' independent noise averages out.
+    #[arg(long)]
+    pub downsample: bool,
 }
 
 /// The `--diff` picture's unit: its legend counts relative squared error in 1e-4.
@@ -59,8 +65,22 @@ fn json(c: &Comparison, a: &Image, b: &Image) -> String {
 }
 
 pub fn run(args: &CompareArgs) -> Result<()> {
-    let a = output::read_image(&args.image)?;
+    let mut a = output::read_image(&args.image)?;
     let b = output::read_image(&args.reference)?;
+    if args.downsample {
+        let k = a.width / b.width.max(1);
+        if k == 0 || a.width != k * b.width || a.height != k * b.height {
+            bail!(
+                "--downsample: {} is {}x{}, not a whole multiple of the reference's {}x{}",
+                args.image.display(),
+                a.width,
+                a.height,
+                b.width,
+                b.height
+            );
+        }
+        a = a.box_downsample(k);
+    }
     let c = compare(&a, &b).with_context(|| format!("comparing {} with {}", args.image.display(), args.reference.display()))?;
     if let Some(path) = &args.diff {
         if output::ImageFormat::from_path(path).ok() != Some(output::ImageFormat::Png) {

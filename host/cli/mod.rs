@@ -8,6 +8,7 @@ pub mod info;
 pub mod interrupt;
 pub mod merge;
 pub mod progress;
+pub mod rays;
 pub mod render;
 pub mod render_path;
 pub mod trace;
@@ -34,6 +35,8 @@ pub enum Command {
     Info(DeviceArgs),
     /// Batch ray queries without rendering: rays from an .npy file, hits to an .npy file.
     Trace(trace::TraceArgs),
+    /// Write a ray set (camera rays or incoherent rays of a scene) as an .npy file for `trace`.
+    Rays(rays::RaysArgs),
     /// Compare every BVH builder x layout on scenes: a table, CSV or JSON, and a heat map.
     Bvh(bvh::BvhArgs),
     /// Add path-traced checkpoints made with different seeds into one image or checkpoint.
@@ -62,6 +65,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Trace(args) => trace::run(&args).map(|_| ()),
+        Command::Rays(args) => rays::run(&args),
         Command::Bvh(args) => bvh::run(&args),
         Command::Merge(args) => merge::run(&args),
         Command::Compare(args) => compare::run(&args),

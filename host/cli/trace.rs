@@ -56,6 +56,8 @@ pub struct TraceReport {
     pub tris_tested: u64,
     /// Rays traced in sorted order (`--order`).
     pub reordered: u64,
+    /// The device's own time in the trace dispatches (timestamps), if it has them.
+    pub device_seconds: Option<f64>,
 }
 
 pub fn run(args: &TraceArgs) -> Result<TraceReport> {
@@ -86,11 +88,16 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
         writer.write(&hits)?;
     }
     report.reordered = query.rays_reordered();
+    report.device_seconds = query.device_seconds();
     writer.finish()?;
     ctx.check_validation().context("Vulkan validation")?;
     let per_ray = |x: u64| x as f64 / report.rays.max(1) as f64;
+    let device_rate = report
+        .device_seconds
+        .filter(|&s| s > 0.0)
+        .map_or(String::new(), |s| format!("; traversal alone {:.3} M rays/s by device timestamps", report.rays as f64 / s / 1e6));
     eprintln!(
-        "traced {} rays ({} hit, {} in sorted order) on {} with {} / {}: {:.3} M rays/s (upload, sorting, traversal and read-back; build {:.0} ms not counted), {:.1} nodes visited and {:.2} triangles tested per ray",
+        "traced {} rays ({} hit, {} in sorted order) on {} with {} / {}: {:.3} M rays/s (upload, sorting, traversal and read-back; build {:.0} ms not counted{device_rate}), {:.1} nodes visited and {:.2} triangles tested per ray",
         report.rays,
         report.hits,
         report.reordered,

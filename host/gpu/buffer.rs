@@ -1,34 +1,40 @@
-//! Storage and uniform buffers, with upload and read-back that work on every memory model:
-//! mapped directly where device memory is host-visible (lavapipe, integrated GPUs, ReBAR),
-//! through a staging buffer and a copy elsewhere.
+//! Storage and uniform buffers, with upload and read-back that work on every memory model
+//! ([`HostAccess`](super::HostAccess)): mapped and written in place where device memory is host-visible
+//! (lavapipe, integrated GPUs, resizable BAR), through the context's reused staging buffers
+//! and a copy elsewhere. Host access waits for the submissions in flight first
+//! ([`Context::drain`]), or for one given ticket (`*_after`, for double-buffered work).
 
-use super::commands::submit_and_wait;
+use super::commands::{submit_and_wait, Ticket};
+use super::memory::{MemoryLocation, RawBuffer};
 use super::Context;
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 
-/// Where a buffer should live.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MemoryLocation {
-    /// Fast for the GPU; mapped only if the device offers host-visible device-local memory.
-    Device,
-    /// Host-visible and coherent (staging, read-back).
-    Host,
-}
-
-/// A buffer and its memory, freed on drop.
+/// A buffer and its memory, freed on drop (after the submissions in flight, which may use it).
 pub struct Buffer<'a> {
     ctx: &'a Context,
+    raw: RawBuffer,
     pub buffer: vk::Buffer,
-    memory: vk::DeviceMemory,
     pub size: u64,
-    mapped: Option<*mut u8>,
     name: String,
 }
 
-fn find_memory_type(ctx: &Context, bits: u32, want: vk::MemoryPropertyFlags) -> Option<u32> {
-    let m = &ctx.memory;
-    (0..m.memory_type_count).find(|&i| bits & (1 << i) != 0 && m.memory_types[i as usize].property_flags.contains(want))
+impl Context {
+    /// A buffer from the context's allocator (see [`RawBuffer::new`]).
+    pub(super) fn raw_buffer(&self, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<RawBuffer> {
+        let mut allocator = self.allocator.lock().map_err(|_| anyhow!("the memory allocator is poisoned"))?;
+        let allocator = allocator.as_mut().ok_or_else(|| anyhow!("the context is shutting down"))?;
+        RawBuffer::new(&self.device, allocator, self.host_access, name, size, usage, location)
+    }
+
+    /// Returns a buffer made by [`Self::raw_buffer`].
+    pub(super) fn free_raw(&self, raw: &mut RawBuffer) {
+        if let Ok(mut allocator) = self.allocator.lock() {
+            if let Some(a) = allocator.as_mut() {
+                raw.destroy(&self.device, a);
+            }
+        }
+    }
 }
 
 impl<'a> Buffer<'a> {
@@ -37,44 +43,13 @@ impl<'a> Buffer<'a> {
     pub fn new(ctx: &'a Context, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Self> {
         let size = size.max(16);
         let usage = usage | vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
-        let info = vk::BufferCreateInfo::default().size(size).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
-        let dev = &ctx.device;
-        // SAFETY: valid device and create info; every object is destroyed on the error paths below or in Drop.
-        unsafe {
-            let buffer = dev.create_buffer(&info, None).with_context(|| format!("vkCreateBuffer '{name}' ({size} bytes)"))?;
-            let req = dev.get_buffer_memory_requirements(buffer);
-            let hv = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
-            let dl = vk::MemoryPropertyFlags::DEVICE_LOCAL;
-            let choice = match location {
-                MemoryLocation::Device => find_memory_type(ctx, req.memory_type_bits, dl | hv)
-                    .map(|t| (t, true))
-                    .or_else(|| find_memory_type(ctx, req.memory_type_bits, dl).map(|t| (t, false))),
-                MemoryLocation::Host => find_memory_type(ctx, req.memory_type_bits, hv | vk::MemoryPropertyFlags::HOST_CACHED)
-                    .or_else(|| find_memory_type(ctx, req.memory_type_bits, hv))
-                    .map(|t| (t, true)),
-            };
-            let Some((type_index, mappable)) = choice else {
-                dev.destroy_buffer(buffer, None);
-                return Err(anyhow!("no suitable memory type for buffer '{name}'"));
-            };
-            let alloc = vk::MemoryAllocateInfo::default().allocation_size(req.size).memory_type_index(type_index);
-            let memory = match dev.allocate_memory(&alloc, None) {
-                Ok(m) => m,
-                Err(e) => {
-                    dev.destroy_buffer(buffer, None);
-                    return Err(anyhow!("vkAllocateMemory for buffer '{name}' ({} bytes): {e}", req.size));
-                }
-            };
-            let mut made = Self { ctx, buffer, memory, size, mapped: None, name: name.to_string() };
-            dev.bind_buffer_memory(buffer, memory, 0).with_context(|| format!("vkBindBufferMemory '{name}'"))?;
-            if mappable {
-                let ptr = dev
-                    .map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty())
-                    .with_context(|| format!("vkMapMemory '{name}'"))?;
-                made.mapped = Some(ptr as *mut u8);
-            }
-            Ok(made)
-        }
+        let raw = ctx.raw_buffer(name, size, usage, location)?;
+        Ok(Self { ctx, buffer: raw.buffer, size, raw, name: name.to_string() })
+    }
+
+    /// True if the host reads and writes the buffer in place (no staging copy).
+    pub fn is_mapped(&self) -> bool {
+        self.raw.mapped.is_some()
     }
 
     /// A view of the whole buffer as texels of `format`, for a `utextureBuffer`; the buffer
@@ -105,28 +80,42 @@ impl<'a> Buffer<'a> {
     }
 
     /// Lets `fill` write the first `count` values of type T in place: straight into the mapping
-    /// when the buffer is host-visible, else into a mapped staging buffer copied over after.
+    /// when the buffer is mapped, else into a staging buffer copied over after. Waits for every
+    /// submission in flight first.
     pub fn write_with<T: bytemuck::Pod>(&self, count: usize, fill: impl FnOnce(&mut [T])) -> Result<()> {
+        self.ctx.drain()?;
+        self.write_unsynchronized(count, fill)
+    }
+
+    /// As [`Self::write_with`], waiting only for submission `ticket`: the caller promises that
+    /// no later submission in flight uses this buffer. An unmapped buffer waits for all.
+    pub fn write_after<T: bytemuck::Pod>(&self, ticket: Ticket, count: usize, fill: impl FnOnce(&mut [T])) -> Result<()> {
+        if self.is_mapped() { self.ctx.wait(ticket)? } else { self.ctx.drain()? }
+        self.write_unsynchronized(count, fill)
+    }
+
+    fn write_unsynchronized<T: bytemuck::Pod>(&self, count: usize, fill: impl FnOnce(&mut [T])) -> Result<()> {
         let len = self.checked_len::<T>(count, "writing")?;
         if count == 0 {
             return Ok(());
         }
         let Some(ptr) = self.mapped_as::<T>() else {
-            let staging = Buffer::new(self.ctx, "staging upload", len, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
-            staging.write_with(count, fill)?;
-            return copy(self.ctx, &staging, self, len);
+            return self.ctx.with_staging(MemoryLocation::Upload, len, |staging| {
+                // SAFETY: the staging mapping holds at least `len` bytes and is not in use (the
+                // context's lock is held and every submission has been waited for).
+                fill(unsafe { std::slice::from_raw_parts_mut(mapped_ptr::<T>(staging)?, count) });
+                copy(self.ctx, staging.buffer, self.buffer, len, &self.name)
+            });
         };
         // SAFETY: the mapping covers `size` >= `len` bytes and is aligned for T (`mapped_as`),
-        // T is plain data, and nothing on the GPU uses the buffer now (every submission is
-        // waited for).
+        // T is plain data, and no submission that uses the buffer is in flight (waited above).
         fill(unsafe { std::slice::from_raw_parts_mut(ptr, count) });
         Ok(())
     }
 
-    /// Fills the buffer with zeros.
+    /// Fills the buffer with zeros (after everything submitted before).
     pub fn clear(&self) -> Result<()> {
-        let buffer = self.buffer;
-        let size = self.size;
+        let (buffer, size) = (self.buffer, self.size);
         submit_and_wait(self.ctx, "clear buffer", |cmd| unsafe {
             self.ctx.device.cmd_fill_buffer(cmd, buffer, 0, size, 0);
         })
@@ -152,18 +141,33 @@ impl<'a> Buffer<'a> {
     }
 
     /// Lets `take` read the first `count` values of type T in place (the read-side twin of
-    /// [`Self::write_with`]).
+    /// [`Self::write_with`]), after every submission in flight.
     pub fn read_with<T: bytemuck::Pod>(&self, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
+        self.ctx.drain()?;
+        self.read_unsynchronized(count, take)
+    }
+
+    /// As [`Self::read_with`], waiting only for submission `ticket` (same promise as
+    /// [`Self::write_after`]).
+    pub fn read_after<T: bytemuck::Pod>(&self, ticket: Ticket, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
+        if self.is_mapped() { self.ctx.wait(ticket)? } else { self.ctx.drain()? }
+        self.read_unsynchronized(count, take)
+    }
+
+    fn read_unsynchronized<T: bytemuck::Pod>(&self, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
         let len = self.checked_len::<T>(count, "reading")?;
         if count == 0 {
             return Ok(());
         }
         let Some(ptr) = self.mapped_as::<T>() else {
-            let staging = Buffer::new(self.ctx, "staging read-back", len, vk::BufferUsageFlags::empty(), MemoryLocation::Host)?;
-            copy(self.ctx, self, &staging, len)?;
-            return staging.read_with(count, take);
+            return self.ctx.with_staging(MemoryLocation::Readback, len, |staging| {
+                copy(self.ctx, self.buffer, staging.buffer, len, &self.name)?;
+                // SAFETY: as in `write_unsynchronized`; the copy has completed.
+                take(unsafe { std::slice::from_raw_parts(mapped_ptr::<T>(staging)?, count) });
+                Ok(())
+            });
         };
-        // SAFETY: as in `write_with`; coherent memory, the GPU is idle.
+        // SAFETY: as in `write_unsynchronized`; coherent memory, the submissions are done.
         take(unsafe { std::slice::from_raw_parts(ptr, count) });
         Ok(())
     }
@@ -177,19 +181,27 @@ impl<'a> Buffer<'a> {
         Ok(len)
     }
 
-    /// The mapping as a pointer to T, if the buffer is mapped. Vulkan maps at
-    /// minMemoryMapAlignment (at least 64 bytes), enough for any T vkrt reads or writes.
+    /// The mapping as a pointer to T, if the buffer is mapped.
     fn mapped_as<T>(&self) -> Option<*mut T> {
-        let ptr = self.mapped?;
-        debug_assert_eq!(ptr as usize % std::mem::align_of::<T>(), 0, "mapping of '{}' misaligned", self.name);
-        Some(ptr as *mut T)
+        mapped_ptr::<T>(&self.raw).ok()
     }
 }
 
-fn copy(ctx: &Context, src: &Buffer, dst: &Buffer, len: u64) -> Result<()> {
+/// A raw buffer's mapping as a pointer to T (sub-allocations start 64-byte aligned,
+/// `memory::MAP_ALIGNMENT`: enough for any T vkrt reads or writes).
+fn mapped_ptr<T>(raw: &RawBuffer) -> Result<*mut T> {
+    let ptr = raw.mapped.ok_or_else(|| anyhow!("buffer is not mapped"))?;
+    if ptr as usize % std::mem::align_of::<T>() != 0 {
+        return Err(anyhow!("buffer mapping misaligned for {}", std::any::type_name::<T>()));
+    }
+    Ok(ptr as *mut T)
+}
+
+/// Copies `len` bytes from `src` to `dst` and waits.
+fn copy(ctx: &Context, src: vk::Buffer, dst: vk::Buffer, len: u64, name: &str) -> Result<()> {
     let region = [vk::BufferCopy { src_offset: 0, dst_offset: 0, size: len }];
-    submit_and_wait(ctx, &format!("copy '{}' to '{}'", src.name, dst.name), |cmd| unsafe {
-        ctx.device.cmd_copy_buffer(cmd, src.buffer, dst.buffer, &region);
+    submit_and_wait(ctx, &format!("staging copy for '{name}'"), |cmd| unsafe {
+        ctx.device.cmd_copy_buffer(cmd, src, dst, &region);
     })
 }
 
@@ -227,20 +239,16 @@ pub struct TexelView<'a> {
 
 impl Drop for TexelView<'_> {
     fn drop(&mut self) {
-        // SAFETY: no pending submission uses the view (vkrt waits for each).
+        // SAFETY: no submission using the view is pending after the drain.
+        let _ = self.ctx.drain();
         unsafe { self.ctx.device.destroy_buffer_view(self.view, None) };
     }
 }
 
 impl Drop for Buffer<'_> {
     fn drop(&mut self) {
-        // SAFETY: every submission that used this buffer has been waited for.
-        unsafe {
-            if self.mapped.is_some() {
-                self.ctx.device.unmap_memory(self.memory);
-            }
-            self.ctx.device.destroy_buffer(self.buffer, None);
-            self.ctx.device.free_memory(self.memory, None);
-        }
+        // Submissions in flight may still use the buffer.
+        let _ = self.ctx.drain();
+        self.ctx.free_raw(&mut self.raw);
     }
 }

@@ -5,6 +5,10 @@ use anyhow::{anyhow, bail, Context as _, Result};
 use ash::vk;
 use std::ffi::{c_void, CStr};
 use std::sync::Mutex;
+use super::commands::Submissions;
+use super::memory::{new_allocator, HostAccess};
+use super::staging::Staging;
+use gpu_allocator::vulkan::Allocator;
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -25,6 +29,9 @@ pub struct ContextOptions {
     /// (a discrete GPU if present, else the best other device, lavapipe on a GPU-less machine).
     pub device: Option<String>,
     pub validation: Option<Validation>,
+    /// Reach device memory through staging copies even where it is host-visible: how a
+    /// discrete GPU without resizable BAR works, run on any device (`VKRT_MEMORY=staged`).
+    pub staged: bool,
 }
 
 impl ContextOptions {
@@ -36,7 +43,8 @@ impl ContextOptions {
             Ok("0") | Ok("off") | Ok("false") => Some(Validation::Off),
             _ => None,
         };
-        Self { device, validation }
+        let staged = std::env::var("VKRT_MEMORY").is_ok_and(|m| m == "staged");
+        Self { device, validation, staged }
     }
 }
 
@@ -55,6 +63,16 @@ pub struct Context {
     pub command_pool: vk::CommandPool,
     pub memory: vk::PhysicalDeviceMemoryProperties,
     pub info: DeviceInfo,
+    /// The workgroup shape pipelines are specialised to on this device.
+    pub workgroups: super::Workgroups,
+    /// How the host reaches device buffers.
+    pub host_access: HostAccess,
+    /// Buffer memory; `None` only while the context is dropped.
+    pub(super) allocator: Mutex<Option<Allocator>>,
+    pub(super) staging: Mutex<Staging>,
+    pub(super) submissions: Mutex<Submissions>,
+    /// Bytes copied through staging so far ([`Context::staged_bytes`]).
+    pub(super) staged_bytes: std::sync::atomic::AtomicU64,
     pub validation_enabled: bool,
 }
 
@@ -94,10 +112,14 @@ fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance
         .engine_name(c"vkrt")
         .api_version(vk::API_VERSION_1_2);
     let layers = [VALIDATION_LAYER.as_ptr()];
-    let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+    let extensions = [ash::ext::debug_utils::NAME.as_ptr(), ash::ext::validation_features::NAME.as_ptr()];
+    // Synchronization validation too: it reports missing barriers between submissions and
+    // between the host and the device, the hazards a discrete GPU would turn into wrong pixels.
+    let enabled = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled);
     let mut info = vk::InstanceCreateInfo::default().application_info(&app);
     if validation {
-        info = info.enabled_layer_names(&layers).enabled_extension_names(&extensions);
+        info = info.enabled_layer_names(&layers).enabled_extension_names(&extensions).push_next(&mut features);
     }
     // SAFETY: the create info and everything it points to live until the call returns.
     unsafe { entry.create_instance(&info, None) }.context("vkCreateInstance")
@@ -187,7 +209,7 @@ impl Context {
         // From here on, failures must destroy what was created: build the rest in a closure.
         let made = unsafe { Self::create_device(&instance, options) };
         match made {
-            Ok((physical, device, queue, queue_family, command_pool, memory, info)) => Ok(Self {
+            Ok((physical, device, queue, queue_family, command_pool, memory, info, allocator, submissions)) => Ok(Self {
                 _entry: entry,
                 instance,
                 debug: ctx_debug,
@@ -198,6 +220,12 @@ impl Context {
                 queue_family,
                 command_pool,
                 memory,
+                workgroups: super::Workgroups::for_device(&info),
+                host_access: if options.staged { HostAccess::Staged } else { info.host_access },
+                allocator: Mutex::new(Some(allocator)),
+                staging: Mutex::new(Staging::default()),
+                submissions: Mutex::new(submissions),
+                staged_bytes: 0.into(),
                 info,
                 validation_enabled: validation,
             }),
@@ -217,7 +245,8 @@ impl Context {
     unsafe fn create_device(
         instance: &ash::Instance,
         options: &ContextOptions,
-    ) -> Result<(vk::PhysicalDevice, ash::Device, vk::Queue, u32, vk::CommandPool, vk::PhysicalDeviceMemoryProperties, DeviceInfo)> {
+    ) -> Result<(vk::PhysicalDevice, ash::Device, vk::Queue, u32, vk::CommandPool, vk::PhysicalDeviceMemoryProperties, DeviceInfo, Allocator, Submissions)>
+    {
         let pds = instance.enumerate_physical_devices().context("vkEnumeratePhysicalDevices")?;
         let infos: Vec<DeviceInfo> = pds.iter().enumerate().map(|(i, &pd)| DeviceInfo::query(instance, pd, i)).collect();
         let index = choose_device(&infos, options.device.as_deref())?;
@@ -250,7 +279,17 @@ impl Context {
             }
         };
         let memory = instance.get_physical_device_memory_properties(physical);
-        Ok((physical, device, queue, queue_family, command_pool, memory, info))
+        let rest = new_allocator(instance, &device, physical).and_then(|a| Ok((a, Submissions::new(&device, command_pool)?)));
+        match rest {
+            Ok((allocator, submissions)) => Ok((physical, device, queue, queue_family, command_pool, memory, info, allocator, submissions)),
+            Err(e) => {
+                // The pool's destruction frees its command buffers (Submissions::new destroys
+                // its own fences when it fails).
+                device.destroy_command_pool(command_pool, None);
+                device.destroy_device(None);
+                Err(e)
+            }
+        }
     }
 
     /// Validation messages (warnings and errors) seen so far.
@@ -271,6 +310,18 @@ impl Drop for Context {
         // context, so it is gone by now; wait for the queue, then destroy in reverse order.
         unsafe {
             let _ = self.device.device_wait_idle();
+            if let Ok(ring) = self.submissions.get_mut() {
+                ring.destroy(&self.device);
+            }
+            if let (Ok(staging), Ok(allocator)) = (self.staging.get_mut(), self.allocator.get_mut()) {
+                if let Some(a) = allocator.as_mut() {
+                    staging.destroy(&self.device, a);
+                }
+            }
+            // The allocator frees its memory blocks on drop, while the device still exists.
+            if let Ok(allocator) = self.allocator.get_mut() {
+                drop(allocator.take());
+            }
             self.device.destroy_command_pool(self.command_pool, None);
             self.device.destroy_device(None);
             if let Some((du, m)) = self.debug.take() {

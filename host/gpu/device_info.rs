@@ -21,6 +21,8 @@ pub struct DeviceInfo {
     pub max_push_constants_size: u32,
     /// Size of the largest device-local heap, in bytes.
     pub device_local_bytes: u64,
+    /// How the host reaches its device-local memory.
+    pub host_access: super::HostAccess,
     /// True if it has a compute queue and Vulkan 1.2, so vkrt can use it.
     pub usable: bool,
 }
@@ -68,6 +70,7 @@ impl DeviceInfo {
             subgroup_size: subgroup.subgroup_size,
             max_push_constants_size: p.limits.max_push_constants_size,
             device_local_bytes,
+            host_access: super::HostAccess::detect(&mem),
             usable: has_compute && api_ok,
         }
     }
@@ -104,6 +107,9 @@ impl fmt::Display for DeviceInfo {
         writeln!(f, "    max workgroup size: {:?}, max invocations: {}", self.max_workgroup_size, self.max_workgroup_invocations)?;
         writeln!(f, "    subgroup size: {}", self.subgroup_size)?;
         writeln!(f, "    max push constants: {} bytes", self.max_push_constants_size)?;
-        write!(f, "    largest device-local heap: {} MiB", self.device_local_bytes / (1024 * 1024))
+        writeln!(f, "    largest device-local heap: {} MiB", self.device_local_bytes / (1024 * 1024))?;
+        writeln!(f, "    memory: {}", self.host_access.name())?;
+        let wg = super::Workgroups::for_device(self);
+        write!(f, "    vkrt workgroups: {}x{} (images, in tiles of {}²), {} (ray batches)", wg.x, wg.y, wg.tile, wg.d1)
     }
 }

@@ -63,12 +63,11 @@ shared_constants! {
     /// progress line's rays/s counts. Each pixel is one invocation's, so no atomics.
     BINDING_RAY_COUNTS = 27;
 
-    /// Compute workgroup size for image kernels: 8x8 = 64 invocations, a multiple of every
-    /// subgroup size we know of (lavapipe 8, NVIDIA 32, AMD 64).
-    WORKGROUP_SIZE_X = 8;
-    WORKGROUP_SIZE_Y = 8;
-    /// Workgroup size for 1D kernels (ray batches).
-    WORKGROUP_SIZE_1D = 64;
+    /// Specialization constant ids of the workgroup size (`local_size_*_id`); the sizes are
+    /// chosen per device by `gpu::Workgroups::for_device`.
+    SPEC_WORKGROUP_X = 10;
+    SPEC_WORKGROUP_Y = 11;
+    SPEC_WORKGROUP_1D = 12;
 
     /// A leaf packs (first triangle << LEAF_COUNT_BITS) | count into one u32; 0 count = interior.
     LEAF_COUNT_BITS = 8;

@@ -21,8 +21,8 @@ pub struct RenderSettings {
     /// Rays per path: 1 is primary rays only (default 7).
     pub max_depth: u32,
     pub seed: u32,
-    /// Side of the square tiles each submission renders (default 128: on lavapipe a tile of
-    /// one sample at depth 7 takes milliseconds, far from any watchdog).
+    /// Side of the square tiles each submission renders; 0 (the default): the device's
+    /// (`gpu::Workgroups::tile`). Images do not depend on it (tests/memory_models.rs).
     pub tile_size: u32,
     /// Samples per pixel per submission (default 4).
     pub samples_per_batch: u32,
@@ -40,7 +40,7 @@ impl RenderSettings {
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { width: 512, height: 512, spp: 1, max_depth: 7, seed: 0, tile_size: 128, samples_per_batch: 4, all_features: false }
+        Self { width: 512, height: 512, spp: 1, max_depth: 7, seed: 0, tile_size: 0, samples_per_batch: 4, all_features: false }
     }
 }
 

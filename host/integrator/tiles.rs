@@ -1,11 +1,11 @@
 //! The dispatch loop every image integrator shares: the image cut into square tiles, one
 //! submission per tile and sample batch, so that no single submission runs long (lavapipe and
-//! some drivers have no watchdog; others have one that kills long dispatches).
+//! some drivers have no watchdog; others have one that kills long dispatches). Submissions
+//! stay in flight (`Context::submit`): the host records the next tile while the device runs
+//! the last; reading a result buffer waits for them.
 
 use super::RenderSettings;
-use crate::gpu::commands::submit_and_wait;
 use crate::gpu::{Buffer, Context};
-use crate::gpu_abi::constants::*;
 use crate::gpu_abi::GpuPush;
 use crate::pipeline::ComputePipeline;
 use anyhow::{Context as _, Result};
@@ -18,9 +18,14 @@ pub fn bind_all(pipeline: &ComputePipeline, bindings: &[(u32, &Buffer)]) -> Resu
     Ok(())
 }
 
+/// The tile side on `ctx`'s device: the settings' if given, else the device's.
+pub fn tile_side(ctx: &Context, settings: &RenderSettings) -> u32 {
+    if settings.tile_size > 0 { settings.tile_size } else { ctx.workgroups.tile }
+}
+
 /// How many tiles one sample batch takes.
-pub fn tile_count(settings: &RenderSettings) -> u64 {
-    let tile = settings.tile_size.max(WORKGROUP_SIZE_X);
+pub fn tile_count(ctx: &Context, settings: &RenderSettings) -> u64 {
+    let tile = tile_side(ctx, settings);
     (settings.width.div_ceil(tile) * settings.height.div_ceil(tile)) as u64
 }
 
@@ -39,7 +44,8 @@ pub fn dispatch_samples(
     total_spp: u32,
     on_tile: &mut dyn FnMut(),
 ) -> Result<()> {
-    let tile = settings.tile_size.max(WORKGROUP_SIZE_X);
+    let tile = tile_side(ctx, settings);
+    let wg = ctx.workgroups;
     for ty in 0..settings.height.div_ceil(tile) {
         for tx in 0..settings.width.div_ceil(tile) {
             let push = GpuPush {
@@ -52,8 +58,8 @@ pub fn dispatch_samples(
             };
             let w = tile.min(settings.width - push.tile_x);
             let h = tile.min(settings.height - push.tile_y);
-            let groups = [w.div_ceil(WORKGROUP_SIZE_X), h.div_ceil(WORKGROUP_SIZE_Y), 1];
-            submit_and_wait(ctx, what, |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups))?;
+            let groups = [w.div_ceil(wg.x), h.div_ceil(wg.y), 1];
+            ctx.submit(what, |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups))?;
             on_tile();
         }
     }

@@ -53,7 +53,7 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);
     let batches = settings.spp.div_ceil(batch);
-    let total = tile_count(settings) * batches as u64;
+    let total = tile_count(ctx, settings) * batches as u64;
     let mut done = 0u64;
     // Sample batches outermost, so that a long render refines the whole image evenly.
     for b in 0..batches {

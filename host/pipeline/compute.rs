@@ -1,6 +1,9 @@
-//! A compute pipeline with one descriptor set of buffers and a push-constant block.
+//! A compute pipeline with its descriptor sets of buffers and a push-constant block. It has
+//! [`IN_FLIGHT`] copies of its set, so double-buffered work binds each submission's buffers to
+//! a set of its own (`bind_in`, `record_dispatch_in`); `bind` points all of them at a buffer.
 
-use crate::gpu::{Buffer, Context, TexelView};
+use crate::gpu::{Buffer, Context, TexelView, IN_FLIGHT};
+use crate::gpu_abi::constants::{SPEC_WORKGROUP_1D, SPEC_WORKGROUP_X, SPEC_WORKGROUP_Y};
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 
@@ -23,7 +26,7 @@ impl BindingKind {
     }
 }
 
-/// A compute pipeline and the one descriptor set it uses; all freed on drop.
+/// A compute pipeline and its descriptor sets; all freed on drop.
 pub struct ComputePipeline<'a> {
     ctx: &'a Context,
     name: String,
@@ -32,7 +35,7 @@ pub struct ComputePipeline<'a> {
     layout: vk::PipelineLayout,
     pipeline: vk::Pipeline,
     pool: vk::DescriptorPool,
-    set: vk::DescriptorSet,
+    sets: Vec<vk::DescriptorSet>,
     bindings: Vec<(u32, BindingKind)>,
     push_size: u32,
 }
@@ -45,7 +48,8 @@ impl<'a> ComputePipeline<'a> {
     }
 
     /// As [`Self::new`], with 32-bit specialization constants `(constant_id, value)` (a GLSL
-    /// `bool` constant takes 0 or 1); constants not listed keep the shader's defaults.
+    /// `bool` constant takes 0 or 1); constants not listed keep the shader's defaults. Every
+    /// pipeline also gets the device's workgroup shape (`ctx.workgroups`, SPEC_WORKGROUP_*).
     pub fn specialized(
         ctx: &'a Context,
         name: &str,
@@ -56,6 +60,10 @@ impl<'a> ComputePipeline<'a> {
     ) -> Result<Self> {
         let dev = &ctx.device;
         let code = crate::pipeline::shaders::words(spv).with_context(|| format!("shader '{name}'"))?;
+        let wg = ctx.workgroups;
+        let shape = [(SPEC_WORKGROUP_X, wg.x), (SPEC_WORKGROUP_Y, wg.y), (SPEC_WORKGROUP_1D, wg.d1)];
+        let constants: Vec<(u32, u32)> = constants.iter().copied().chain(shape).collect();
+        let constants = constants.as_slice();
         let mut p = Self {
             ctx,
             name: name.to_string(),
@@ -64,7 +72,7 @@ impl<'a> ComputePipeline<'a> {
             layout: vk::PipelineLayout::null(),
             pipeline: vk::Pipeline::null(),
             pool: vk::DescriptorPool::null(),
-            set: vk::DescriptorSet::null(),
+            sets: Vec::new(),
             bindings: bindings.to_vec(),
             push_size,
         };
@@ -116,15 +124,16 @@ impl<'a> ComputePipeline<'a> {
             for kind in [BindingKind::Storage, BindingKind::Uniform, BindingKind::Texels] {
                 let count = bindings.iter().filter(|b| b.1 == kind).count() as u32;
                 if count > 0 {
-                    sizes.push(vk::DescriptorPoolSize { ty: kind.vk(), descriptor_count: count });
+                    sizes.push(vk::DescriptorPoolSize { ty: kind.vk(), descriptor_count: count * IN_FLIGHT as u32 });
                 }
             }
             p.pool = dev
-                .create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes), None)
+                .create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(IN_FLIGHT as u32).pool_sizes(&sizes), None)
                 .with_context(|| format!("vkCreateDescriptorPool '{name}'"))?;
-            p.set = dev
-                .allocate_descriptor_sets(&vk::DescriptorSetAllocateInfo::default().descriptor_pool(p.pool).set_layouts(&set_layouts))
-                .with_context(|| format!("vkAllocateDescriptorSets '{name}'"))?[0];
+            let layouts = [p.set_layout; IN_FLIGHT];
+            p.sets = dev
+                .allocate_descriptor_sets(&vk::DescriptorSetAllocateInfo::default().descriptor_pool(p.pool).set_layouts(&layouts))
+                .with_context(|| format!("vkAllocateDescriptorSets '{name}'"))?;
         }
         Ok(p)
     }
@@ -138,20 +147,31 @@ impl<'a> ComputePipeline<'a> {
             .ok_or_else(|| anyhow!("pipeline '{}' has no binding {binding}", self.name))
     }
 
-    /// Points binding `binding` at `buffer` (whole buffer). Must not be called while a
-    /// submission using this pipeline is in flight (vkrt always waits).
+    /// Points binding `binding` of every set at `buffer` (whole buffer), after the
+    /// submissions in flight (a set must not change while one uses it).
     pub fn bind(&self, binding: u32, buffer: &Buffer) -> Result<()> {
+        for set in 0..self.sets.len() {
+            self.bind_in(set, binding, buffer)?;
+        }
+        Ok(())
+    }
+
+    /// Points binding `binding` of set `set` (below [`IN_FLIGHT`]) at `buffer`, after the
+    /// submissions in flight.
+    pub fn bind_in(&self, set: usize, binding: u32, buffer: &Buffer) -> Result<()> {
         let kind = self.kind(binding)?;
         if kind == BindingKind::Texels {
             return Err(anyhow!("pipeline '{}': binding {binding} is a texel buffer; bind a view with bind_texels", self.name));
         }
+        let dst = *self.sets.get(set).ok_or_else(|| anyhow!("pipeline '{}' has no descriptor set {set}", self.name))?;
+        self.ctx.drain()?;
         let info = [vk::DescriptorBufferInfo { buffer: buffer.buffer, offset: 0, range: vk::WHOLE_SIZE }];
         let write = [vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
+            .dst_set(dst)
             .dst_binding(binding)
             .descriptor_type(kind.vk())
             .buffer_info(&info)];
-        // SAFETY: the set is not in use by a pending submission.
+        // SAFETY: no submission using the set is in flight (drained above).
         unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
         Ok(())
     }
@@ -161,26 +181,35 @@ impl<'a> ComputePipeline<'a> {
         if self.kind(binding)? != BindingKind::Texels {
             return Err(anyhow!("pipeline '{}': binding {binding} is not a texel buffer", self.name));
         }
+        self.ctx.drain()?;
         let views = [view.view];
-        let write = [vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
-            .texel_buffer_view(&views)];
-        // SAFETY: the set is not in use by a pending submission; the view outlives its use.
-        unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        for &set in &self.sets {
+            let write = [vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(binding)
+                .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                .texel_buffer_view(&views)];
+            // SAFETY: no submission using the sets is in flight (drained above); the view
+            // outlives its use.
+            unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
+        }
         Ok(())
     }
 
-    /// Records: bind pipeline and set, push `push`, dispatch `groups`.
+    /// Records: bind pipeline and set 0, push `push`, dispatch `groups`.
     pub fn record_dispatch(&self, cmd: vk::CommandBuffer, push: &[u8], groups: [u32; 3]) {
+        self.record_dispatch_in(cmd, 0, push, groups)
+    }
+
+    /// As [`Self::record_dispatch`] with descriptor set `set` (below [`IN_FLIGHT`]).
+    pub fn record_dispatch_in(&self, cmd: vk::CommandBuffer, set: usize, push: &[u8], groups: [u32; 3]) {
         let dev = &self.ctx.device;
         // SAFETY: `cmd` is recording; push size matches the layout (checked by debug assert
         // and by the validation layers in tests).
         debug_assert_eq!(push.len() as u32, self.push_size);
         unsafe {
             dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            dev.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout, 0, &[self.set], &[]);
+            dev.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout, 0, &[self.sets[set % self.sets.len()]], &[]);
             if !push.is_empty() {
                 dev.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
             }
@@ -192,8 +221,9 @@ impl<'a> ComputePipeline<'a> {
 impl Drop for ComputePipeline<'_> {
     fn drop(&mut self) {
         let dev = &self.ctx.device;
-        // SAFETY: no submission using these objects is pending (vkrt waits for each); null
-        // handles are ignored by the destroy calls.
+        // SAFETY: no submission using these objects is pending after the drain; null handles
+        // are ignored by the destroy calls.
+        let _ = self.ctx.drain();
         unsafe {
             dev.destroy_descriptor_pool(self.pool, None);
             dev.destroy_pipeline(self.pipeline, None);

@@ -14,7 +14,8 @@
 #include "sampling.glsl"
 #include "bsdf.glsl"
 
-layout(local_size_x = WORKGROUP_SIZE_1D) in;
+// Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
+layout(local_size_x_id = SPEC_WORKGROUP_1D) in;
 layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Out { vec4 outv[]; };
 layout(push_constant) uniform Push { GpuPush push; };

@@ -14,7 +14,8 @@
 #include "path_bindings.glsl"
 #include "traverse.glsl"
 
-layout(local_size_x = WORKGROUP_SIZE_1D) in;
+// Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
+layout(local_size_x_id = SPEC_WORKGROUP_1D) in;
 
 layout(std430, set = 0, binding = BINDING_DECODE_OUT + 0) writeonly buffer OutNodes { BVH_NODE out_nodes[]; };
 layout(std430, set = 0, binding = BINDING_DECODE_OUT + 1) writeonly buffer OutTriangles { GpuTriangle out_triangles[]; };

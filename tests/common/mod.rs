@@ -21,14 +21,25 @@ pub fn assert_no_validation_messages(ctx: &Context) {
     assert!(messages.is_empty(), "{} validation message(s):\n{}", messages.len(), messages.join("\n"));
 }
 
-/// A path in the repository.
-pub fn repo_path(rel: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+/// The repository: `VKRT_REPO` if set (a test binary carried to a machine without Rust with
+/// `tools/device-check --pack`), else where the test was built.
+pub fn repo_root() -> std::path::PathBuf {
+    std::env::var_os("VKRT_REPO").map(Into::into).unwrap_or_else(|| env!("CARGO_MANIFEST_DIR").into())
 }
 
-/// A path in the shared data folder beside the repository.
+/// A path in the repository.
+pub fn repo_path(rel: &str) -> std::path::PathBuf {
+    repo_root().join(rel)
+}
+
+/// A path in the shared data folder beside the repository (`VKRT_SHARED` if set).
 pub fn shared_path(rel: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared").join(rel)
+    std::env::var_os("VKRT_SHARED").map(std::path::PathBuf::from).unwrap_or_else(|| repo_root().join("../shared")).join(rel)
+}
+
+/// The `vkrt` binary the CLI tests run: `VKRT_BIN` if set, else the one cargo built.
+pub fn vkrt_bin() -> std::path::PathBuf {
+    std::env::var_os("VKRT_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_vkrt").into())
 }
 
 /// `rel` in the shared data folder, or None, with the reason printed, when the folder is not
@@ -73,7 +84,7 @@ pub fn upload_with<'a>(ctx: &'a Context, scene: &vkrt::scene::Scene, options: &P
 
 /// A scratch folder under target/ for files a test writes (kept for inspection on failure).
 pub fn scratch_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/test-output").join(name);
+    let dir = repo_root().join("target/test-output").join(name);
     std::fs::create_dir_all(&dir).expect("create scratch dir");
     dir
 }

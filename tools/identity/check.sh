@@ -46,7 +46,7 @@ run() { # run BINARY DIR
   "$B" render "$m" -o "$O/m1r.pfm" $c --spp 8 --seed 1 --resume "$O/m1.ckpt" 2>/dev/null || echo FAIL resume
   "$B" merge "$O/m1.ckpt" "$O/m2.ckpt" -o "$O/merged.pfm" 2>/dev/null || echo FAIL merge
   declare -A RS=([measured]=$out/rays/cornell.npy [sponza]=$out/rays/sponza.npy)
-  local strip='s/: [0-9.]+ M rays\/s.*build [0-9]+ ms not counted\)//'
+  local strip='s/: [0-9.]+ M rays\/s.*build [0-9]+ ms not counted[^)]*\)//'
   for s in measured sponza; do
     for l in $LAYOUTS; do
       for a in "" "--any-hit"; do

@@ -19,7 +19,6 @@
 //! pixel's even-indexed half is exactly half of it (`Accumulation::counts`).
 
 use super::accumulation::Accumulation;
-use crate::gpu_abi::constants::WORKGROUP_SIZE_X;
 
 /// Uniform samples per pixel before the allocation (even).
 pub const PILOT_SPP: u32 = 8;
@@ -41,13 +40,17 @@ pub struct BlockGrid {
     pub block: u32,
 }
 
+/// The fewest pixels in a block: a workgroup row, which lavapipe runs as one SIMD subgroup
+/// whose lanes would otherwise wait for the lane with the most samples (measured: 7 % more
+/// time per sample with 1-pixel blocks). Fixed, not the device's subgroup size: the blocks
+/// decide which samples each pixel takes, so they must not change from device to device.
+pub const MIN_BLOCK: u32 = 8;
+
 impl BlockGrid {
-    /// Blocks of whole coherence blocks, at least a workgroup row (8 pixels) wide: lavapipe
-    /// runs a row as one SIMD subgroup, whose lanes would otherwise wait for the lane with the
-    /// most samples (measured: 7 % more time per sample with 1-pixel blocks).
+    /// Blocks of whole coherence blocks, at least `MIN_BLOCK` pixels wide.
     pub fn new(width: u32, height: u32, coherence: u32) -> Self {
         let c = coherence.max(1);
-        Self { width, height, block: c * WORKGROUP_SIZE_X.div_ceil(c) }
+        Self { width, height, block: c * MIN_BLOCK.div_ceil(c) }
     }
     pub fn blocks_per_row(&self) -> u32 {
         self.width.div_ceil(self.block.max(1))

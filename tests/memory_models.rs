@@ -1,0 +1,85 @@
+//! The discrete-GPU submission shape, run on any device: device buffers reached through the
+//! reused staging buffers (`VKRT_MEMORY=staged`, how a GPU without resizable BAR works) give the
+//! same bytes as mapped memory, for Whitted, the adaptive path tracer (a host write between
+//! batches) and double-buffered ray queries; and images do not depend on the tile size (which
+//! only bounds a submission's work).
+
+mod common;
+
+use vkrt::gpu::{Context, ContextOptions, HostAccess, Validation};
+use vkrt::gpu_abi::GpuRay;
+use vkrt::integrator::RenderSettings;
+use vkrt::query::RayQuery;
+use vkrt::query::RayOrder;
+
+fn context(staged: bool) -> Context {
+    let mut options = ContextOptions::from_env();
+    options.validation.get_or_insert(Validation::IfAvailable);
+    options.staged = staged;
+    Context::new(&options).expect("a Vulkan device (run tools/ensure-deps.sh)")
+}
+
+/// Rays from inside the measured Cornell box in every direction: more than two ray batches.
+fn rays() -> Vec<GpuRay> {
+    let mut rng = common::Pcg::new(7);
+    (0..150_000)
+        .map(|_| {
+            let d = rng.unit_vector();
+            GpuRay { origin: [278.0, 273.0, 280.0], tmin: 0.0, direction: d.to_array(), tmax: f32::INFINITY }
+        })
+        .collect()
+}
+
+/// Whitted, adaptive path and ray-query results on `ctx`, as bytes; the Whitted render with
+/// the given tile size.
+fn results(ctx: &Context, tile_size: u32) -> (Vec<u8>, Vec<u8>, Vec<u8>, Vec<u8>) {
+    let lab = vkrt::scene::load::load_scene(&common::repo_path("scenes/lab/cornell_box/cornell_box.yaml")).unwrap();
+    let measured = vkrt::scene::load::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
+    let gpu = common::upload(ctx, &lab);
+    let settings = RenderSettings { width: 72, height: 40, spp: 2, tile_size, ..RenderSettings::default() };
+    let (image, _) = vkrt::integrator::whitted::render(ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
+    let whitted = bytemuck::cast_slice(&image.pixels).to_vec();
+    let gpu = common::upload(ctx, &measured);
+    let mut path = common::path_settings(48, 32, 16);
+    path.adaptive = true;
+    path.image.tile_size = tile_size;
+    let (acc, stats) = vkrt::integrator::path::render(ctx, &gpu, &path, None, &mut Default::default()).unwrap();
+    assert_eq!(stats.nonfinite_samples, 0);
+    let path_bytes = [bytemuck::cast_slice(&acc.sum), bytemuck::cast_slice(&acc.even)].concat();
+    let rays = rays();
+    let mut query = RayQuery::new(ctx, &gpu.bvh).unwrap();
+    let given = {
+        query.order = RayOrder::Given;
+        bytemuck::cast_slice(&query.trace(&rays, false).unwrap()).to_vec()
+    };
+    query.order = RayOrder::Sorted;
+    let sorted = bytemuck::cast_slice(&query.trace(&rays, true).unwrap()).to_vec();
+    common::assert_no_validation_messages(ctx);
+    (whitted, path_bytes, given, sorted)
+}
+
+#[test]
+fn staged_memory_gives_the_same_bytes_as_mapped_memory() {
+    let staged = context(true);
+    assert_eq!(staged.host_access, HostAccess::Staged);
+    let before = staged.staged_bytes();
+    let from_staged = results(&staged, 16);
+    // The scenes, the per-batch block writes, the read-backs and both traces' rays and hits
+    // went through staging.
+    let least = 2 * rays().len() * (std::mem::size_of::<GpuRay>() + std::mem::size_of::<vkrt::gpu_abi::GpuHit>());
+    assert!(staged.staged_bytes() - before > least as u64, "staged only {} bytes", staged.staged_bytes() - before);
+    drop(staged);
+    let default = context(false);
+    let from_default = results(&default, 16);
+    if default.host_access == HostAccess::Mapped {
+        assert_eq!(default.staged_bytes(), 0, "a mapped device staged bytes");
+    }
+    assert!(from_staged.0 == from_default.0, "Whitted images differ");
+    assert!(from_staged.1 == from_default.1, "adaptive path sums differ");
+    assert!(from_staged.2 == from_default.2, "closest hits differ");
+    assert!(from_staged.3 == from_default.3, "any hits (sorted order) differ");
+    // Tiles of 16 and 64 pixels: the same images (the rays are the same on both).
+    let big_tiles = results(&default, 64);
+    assert!(big_tiles.0 == from_default.0, "Whitted image depends on the tile size");
+    assert!(big_tiles.1 == from_default.1, "path sums depend on the tile size");
+}

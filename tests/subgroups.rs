@@ -1,0 +1,87 @@
+//! Images and hits do not depend on the device's subgroup size. lavapipe runs 8-wide subgroups,
+//! or 16-wide with LP_NATIVE_VECTOR_WIDTH=512 (on a CPU with AVX-512): the same renders and ray
+//! queries under both must give the same bytes, since nothing vkrt computes depends on how the
+//! device groups lanes (gpu::Workgroups only groups them for execution; adaptive and coherence
+//! blocks are fixed 8-pixel rows). tools/test also runs the GPU tests a second time with the
+//! 16-wide subgroups.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+fn vkrt(width: &str, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_vkrt")).env("LP_NATIVE_VECTOR_WIDTH", width).args(args).output().expect("run vkrt")
+}
+
+/// True if this machine's lavapipe can run 16-wide subgroups (a CPU with AVX-512); prints why not.
+fn sixteen_wide_available() -> bool {
+    let avx512 = std::fs::read_to_string("/proc/cpuinfo").is_ok_and(|c| c.contains(" avx512f"));
+    let info = vkrt("512", &["info"]);
+    let text = String::from_utf8_lossy(&info.stdout).into_owned();
+    let lavapipe = text.lines().find(|l| l.contains("<- vkrt uses this one")).is_some_and(|l| l.contains("llvmpipe")) || text.contains("llvmpipe");
+    if !(avx512 && lavapipe) {
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), "SKIPPED: 16-wide subgroups need lavapipe on a CPU with AVX-512 (avx512f: {avx512}, lavapipe: {lavapipe})");
+        return false;
+    }
+    true
+}
+
+#[test]
+fn renders_and_hits_are_the_same_bytes_with_8_and_16_wide_subgroups() {
+    if !sixteen_wide_available() {
+        return;
+    }
+    // The leg really changes the subgroup size.
+    for (width, want) in [("256", "subgroup size: 8"), ("512", "subgroup size: 16")] {
+        let text = String::from_utf8_lossy(&vkrt(width, &["info"]).stdout).into_owned();
+        assert!(text.contains(want), "LP_NATIVE_VECTOR_WIDTH={width}: {text}");
+    }
+    let dir = common::scratch_dir("subgroups");
+    let lab = common::repo_path("scenes/lab/cornell_box/cornell_box.yaml").display().to_string();
+    let measured = common::repo_path("scenes/cornell-measured/cornell.yaml").display().to_string();
+    let small = ["--width", "40", "--height", "24", "--quiet"];
+    let cases: Vec<(&str, Vec<&str>)> = vec![
+        ("whitted.pfm", vec!["render", &lab, "--spp", "2"]),
+        ("path.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "8"]),
+        ("adaptive.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "16", "--adaptive", "--coherence", "4"]),
+        ("wide-layout.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "4", "--layout", "wide"]),
+    ];
+    for (name, args) in &cases {
+        let mut outputs = Vec::new();
+        for width in ["256", "512"] {
+            let out = dir.join(format!("{width}-{name}"));
+            let mut all = args.clone();
+            let out_s = out.display().to_string();
+            all.extend(["-o", out_s.as_str()]);
+            all.extend_from_slice(&small);
+            let o = vkrt(width, &all);
+            assert!(o.status.success(), "{name} at {width} bits: {}", String::from_utf8_lossy(&o.stderr));
+            outputs.push(std::fs::read(&out).unwrap());
+        }
+        assert!(outputs[0] == outputs[1], "{name}: 8- and 16-wide subgroups rendered different images");
+    }
+    // Batch queries: the same hits and the same traversal counters.
+    let rays: Vec<vkrt::gpu_abi::GpuRay> = (0..4000)
+        .map(|i| {
+            let a = i as f32 * 0.37;
+            vkrt::gpu_abi::GpuRay { origin: [278.0, 273.0, 200.0], tmin: 0.0, direction: [a.cos(), (a * 0.7).sin(), a.sin()], tmax: f32::INFINITY }
+        })
+        .collect();
+    let ray_file = dir.join("rays.npy");
+    vkrt::output::npy::write_rays(&ray_file, &rays).unwrap();
+    let mut logs = Vec::new();
+    let mut hits = Vec::new();
+    for width in ["256", "512"] {
+        let out = dir.join(format!("{width}-hits.npy"));
+        let o = vkrt(width, &["trace", &measured, "--rays", ray_file.to_str().unwrap(), "-o", out.to_str().unwrap(), "--layout", "multi-order"]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let log = String::from_utf8_lossy(&o.stderr).into_owned();
+        // The counters at the end of the report ("... nodes visited and ... per ray").
+        logs.push(log.rsplit(": ").next().unwrap_or("").split(" M rays/s").last().unwrap_or("").to_string());
+        hits.push(std::fs::read(Path::new(&out)).unwrap());
+    }
+    assert!(hits[0] == hits[1], "hits differ between 8- and 16-wide subgroups");
+    assert_eq!(logs[0], logs[1], "traversal counters differ");
+}
