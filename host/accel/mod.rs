@@ -40,6 +40,33 @@ pub trait NodeArray: std::fmt::Debug + Send + Sync {
     fn fill_push(&self, _push: &mut GpuPush) {}
 }
 
+/// Declares a layout's node array as a vector of its node struct, walked by the module's own
+/// `trace(nodes, tris, ray, any_hit)`: `node_array!(Threaded, GpuNode, LayoutKind::Threaded,
+/// "the threaded node array")`. (The compact layout carries a grid too and writes its own.)
+macro_rules! node_array {
+    ($name:ident, $node:ty, $kind:expr, $doc:literal) => {
+        #[doc = $doc]
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct $name(pub Vec<$node>);
+
+        impl $crate::accel::NodeArray for $name {
+            fn kind(&self) -> $crate::accel::LayoutKind {
+                $kind
+            }
+            fn bytes(&self) -> &[u8] {
+                bytemuck::cast_slice(&self.0)
+            }
+            fn count(&self) -> usize {
+                self.0.len()
+            }
+            fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
+                trace(&self.0, tris, ray, any_hit)
+            }
+        }
+    };
+}
+pub(crate) use node_array;
+
 /// The flat arrays of one layout: nodes, and the triangles reordered so that each leaf's
 /// triangles are contiguous (shared by every layout).
 #[derive(Debug)]

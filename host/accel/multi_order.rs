@@ -14,31 +14,14 @@
 
 use super::intersect::RayPre;
 use super::threaded::{threaded, trace_threaded_from};
-use super::{LayoutKind, NodeArray};
+use super::{node_array, LayoutKind};
 use crate::bvh::Bvh;
 use crate::gpu_abi::{GpuHit, GpuNode, GpuRay, GpuTriangle};
 
 /// Number of orders: (x, y, z) x (+, -).
 pub const ORDERS: usize = 6;
 
-/// The multi-order node array.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MultiOrder(pub Vec<GpuNode>);
-
-impl NodeArray for MultiOrder {
-    fn kind(&self) -> LayoutKind {
-        LayoutKind::MultiOrder
-    }
-    fn bytes(&self) -> &[u8] {
-        bytemuck::cast_slice(&self.0)
-    }
-    fn count(&self) -> usize {
-        self.0.len()
-    }
-    fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
-        trace(&self.0, tris, ray, any_hit)
-    }
-}
+node_array!(MultiOrder, GpuNode, LayoutKind::MultiOrder, "The multi-order node array.");
 
 /// The six orders, concatenated: order `o` occupies `o * n .. (o + 1) * n` for n tree nodes.
 pub fn flatten(bvh: &Bvh) -> Vec<GpuNode> {

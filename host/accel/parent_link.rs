@@ -20,31 +20,14 @@
 
 use super::intersect::{intersect_box, RayPre};
 use super::leaf::{leaf_count, miss, test_leaf};
-use super::{LayoutKind, NodeArray};
+use super::{node_array, LayoutKind};
 use crate::bvh::{Bvh, NodeKind};
 use crate::gpu_abi::constants::LEAF_COUNT_BITS;
 use crate::gpu_abi::{GpuHit, GpuParentNode, GpuRay, GpuTriangle};
 use anyhow::bail;
 use glam::Vec3;
 
-/// The parent-link node array.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParentLink(pub Vec<GpuParentNode>);
-
-impl NodeArray for ParentLink {
-    fn kind(&self) -> LayoutKind {
-        LayoutKind::ParentLink
-    }
-    fn bytes(&self) -> &[u8] {
-        bytemuck::cast_slice(&self.0)
-    }
-    fn count(&self) -> usize {
-        self.0.len()
-    }
-    fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
-        trace(&self.0, tris, ray, any_hit)
-    }
-}
+node_array!(ParentLink, GpuParentNode, LayoutKind::ParentLink, "The parent-link node array.");
 
 /// Parent indices get 28 bits; even-child indices the 24 bits above the leaf count.
 const MAX_NODES: usize = 1 << (32 - LEAF_COUNT_BITS);

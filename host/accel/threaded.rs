@@ -9,30 +9,13 @@
 
 use super::intersect::{intersect_box, RayPre};
 use super::leaf::{leaf_count, miss, test_leaf};
-use super::{LayoutKind, NodeArray};
+use super::{node_array, LayoutKind};
 use crate::bvh::{Bvh, NodeKind};
 use crate::gpu_abi::constants::{LEAF_COUNT_BITS, NODE_NONE};
 use crate::gpu_abi::{GpuHit, GpuNode, GpuRay, GpuTriangle};
 use glam::Vec3;
 
-/// The threaded node array.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Threaded(pub Vec<GpuNode>);
-
-impl NodeArray for Threaded {
-    fn kind(&self) -> LayoutKind {
-        LayoutKind::Threaded
-    }
-    fn bytes(&self) -> &[u8] {
-        bytemuck::cast_slice(&self.0)
-    }
-    fn count(&self) -> usize {
-        self.0.len()
-    }
-    fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
-        trace(&self.0, tris, ray, any_hit)
-    }
-}
+node_array!(Threaded, GpuNode, LayoutKind::Threaded, "The threaded node array.");
 
 /// A threaded layout in pre-order, visiting the children of each interior node in the order
 /// `order(node, left, right)` returns. Each node's escape link is the index just past its

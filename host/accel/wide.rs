@@ -42,7 +42,7 @@
 
 use super::intersect::{intersect_box, RayPre, SLAB_FAR_PAD};
 use super::leaf::{leaf_count, miss, test_leaf};
-use super::{LayoutKind, NodeArray};
+use super::{node_array, LayoutKind};
 use crate::bvh::{Bvh, NodeKind};
 use crate::gpu_abi::constants::{LEAF_COUNT_BITS, NODE_NONE, WIDE_ARITY, WIDE_INFO_AXIS_SHIFT, WIDE_INFO_SLOT_SHIFT, WIDE_NO_SLOT};
 use crate::gpu_abi::{GpuHit, GpuRay, GpuTriangle, GpuWideNode};
@@ -50,24 +50,7 @@ use anyhow::bail;
 use bytemuck::Zeroable;
 use glam::Vec3;
 
-/// The wide node array.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Wide(pub Vec<GpuWideNode>);
-
-impl NodeArray for Wide {
-    fn kind(&self) -> LayoutKind {
-        LayoutKind::Wide
-    }
-    fn bytes(&self) -> &[u8] {
-        bytemuck::cast_slice(&self.0)
-    }
-    fn count(&self) -> usize {
-        self.0.len()
-    }
-    fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
-        trace(&self.0, tris, ray, any_hit)
-    }
-}
+node_array!(Wide, GpuWideNode, LayoutKind::Wide, "The wide node array.");
 
 const ARITY: usize = WIDE_ARITY as usize;
 
