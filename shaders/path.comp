@@ -2,13 +2,15 @@
 // Progressive unidirectional path tracing (Kajiya 1986) with next-event estimation and
 // multiple importance sampling by the power heuristic (Veach & Guibas 1995), Russian roulette
 // from params.rr_depth. One invocation per pixel of a tile; each dispatch adds
-// push.sample_count samples to the running sums (all samples in accum, even-indexed ones in
-// accum_even), so a render is any number of short dispatches.
+// push.sample_count samples to the running sums (even- and odd-indexed samples apart, in fixed
+// point: exact and the same in any order), so a render is any number of short dispatches and
+// any split of its samples (resumed runs, shards) sums to the same bytes.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 
 #include "scene_bindings.glsl"
 #include "path_bindings.glsl"
+#include "fixed_point.glsl"
 #include "features.glsl"
 #include "texture.glsl"
 #include "traverse.glsl"
@@ -24,7 +26,6 @@
 // Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
 layout(local_size_x_id = SPEC_WORKGROUP_X, local_size_y_id = SPEC_WORKGROUP_Y) in;
 
-layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 
 // Light sampling at surface s: one light, one point on it, weighted against BSDF sampling.
 // `rays` counts the shadow ray if one is traced.
@@ -121,24 +122,31 @@ void main() {
     uvec2 samples = uvec2(push.sample_base, push.sample_count);
     // Adaptive: the block's own range; blocks are whole coherence blocks, keyed alike.
     if (params.adaptive != 0u) samples = block_samples[sample_key(pixel, frame.width, params.adaptive)];
-    vec3 sum = vec3(0.0);
-    vec3 sum_even = vec3(0.0);
-    float dropped = 0.0;
+    Fixed3 even = fixed3_zero();
+    Fixed3 odd = fixed3_zero();
+    uint dropped = 0u;
     uint rays = 0u;
     for (uint k = 0u; k < samples.y; k++) {
         uint sample_index = samples.x + k;
         Sampler smp = sampler_init(params.sampler_kind, key, sample_index, frame.seed, params.sample_rate);
         vec3 dir = camera_ray_direction(frame, vec2(pixel) + sampler_pixel(smp));
         vec3 c = radiance(frame.cam_origin, dir, smp, rays);
-        // NaN and Inf never enter the accumulation buffers: count them instead.
-        if (any(isnan(c)) || any(isinf(c))) {
-            dropped += 1.0;
+        // NaN, Inf and samples past the fixed-point range never enter the sums: count them.
+        // (Radiance is never negative; max() only keeps a -0.0 from the conversion.)
+        if (any(isnan(c)) || any(isinf(c)) || max3(c) >= exp2(float(ACCUM_MAX_SAMPLE_LOG2))) {
+            dropped += 1u;
+        } else if ((sample_index & 1u) == 0u) {
+            even = add_fixed3(even, max(c, vec3(0.0)));
         } else {
-            sum += c;
-            if ((sample_index & 1u) == 0u) sum_even += c;
+            odd = add_fixed3(odd, max(c, vec3(0.0)));
         }
     }
-    accum[index] += vec4(sum, dropped);
-    accum_even[index] += vec4(sum_even, float(samples.y));
+    sum_even_r[index] = add_fixed(sum_even_r[index], even.r);
+    sum_even_g[index] = add_fixed(sum_even_g[index], even.g);
+    sum_even_b[index] = add_fixed(sum_even_b[index], even.b);
+    sum_odd_r[index] = add_fixed(sum_odd_r[index], odd.r);
+    sum_odd_g[index] = add_fixed(sum_odd_g[index], odd.g);
+    sum_odd_b[index] = add_fixed(sum_odd_b[index], odd.b);
+    sample_counts[index] += uvec2(samples.y, dropped);
     ray_counts[index] += rays;
 }

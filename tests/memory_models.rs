@@ -45,7 +45,7 @@ fn results(ctx: &Context, tile_size: u32) -> (Vec<u8>, Vec<u8>, Vec<u8>, Vec<u8>
     path.image.tile_size = tile_size;
     let (acc, stats) = vkrt::integrator::path::render(ctx, &gpu, &path, None, &mut Default::default()).unwrap();
     assert_eq!(stats.nonfinite_samples, 0);
-    let path_bytes = [bytemuck::cast_slice(&acc.sum), bytemuck::cast_slice(&acc.even)].concat();
+    let path_bytes = [bytemuck::cast_slice::<_, u8>(&acc.even), bytemuck::cast_slice(&acc.odd), bytemuck::cast_slice(&acc.counts)].concat();
     let rays = rays();
     let mut query = RayQuery::new(ctx, &gpu.bvh).unwrap();
     let given = {

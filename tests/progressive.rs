@@ -37,7 +37,7 @@ fn resuming_continues_the_same_samples_bit_for_bit() {
     assert_eq!(half.samples, 4);
     let resumed = render(&common::path_settings(32, 32, 8), Some(half));
     assert_eq!(resumed.samples, 8);
-    assert!(resumed.sum == straight.sum && resumed.even == straight.even, "4 + 4 resumed spp differ from 8 spp in one run");
+    assert!(resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts, "4 + 4 resumed spp differ from 8 spp in one run");
 }
 
 /// An adaptive run resumed inside its pilot and after it takes the very same samples as one
@@ -52,16 +52,16 @@ fn adaptive_runs_resume_bit_for_bit() {
     };
     let straight = render(&settings(24), None);
     assert!(straight.per_pixel && !straight.rates.is_empty());
-    let counts: Vec<u64> = (0..straight.sum.len()).map(|p| straight.counts(p).0).collect();
+    let counts: Vec<u64> = (0..straight.even.len()).map(|p| straight.counts(p).0).collect();
     assert!(counts.iter().any(|&n| n != counts[0]), "every pixel took the same count: nothing adapted");
     assert!(counts.iter().all(|&n| n >= 8 && n % 2 == 0), "a pixel missed its pilot or has an odd count");
     let in_pilot = render(&settings(8), None);
-    assert!(in_pilot.rates.is_empty() || (0..in_pilot.sum.len()).all(|p| in_pilot.counts(p).0 == 8));
+    assert!(in_pilot.rates.is_empty() || (0..in_pilot.even.len()).all(|p| in_pilot.counts(p).0 == 8));
     let resumed = render(&settings(24), Some(in_pilot));
-    assert!(resumed.sum == straight.sum && resumed.even == straight.even, "8 + 16 resumed spp differ from 24 in one run");
+    assert!(resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts, "8 + 16 resumed spp differ from 24 in one run");
     let past_pilot = render(&settings(16), None);
     let resumed = render(&settings(24), Some(past_pilot));
-    assert!(resumed.sum == straight.sum && resumed.even == straight.even, "16 + 8 resumed spp differ from 24 in one run");
+    assert!(resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts, "16 + 8 resumed spp differ from 24 in one run");
     assert!(try_render(&common::path_settings(32, 32, 32), Some(straight)).is_err(), "an adaptive run resumed as a uniform one");
 }
 
@@ -104,9 +104,10 @@ fn cli_checkpoints_merge_exactly_and_compare_gates_on_relmse() {
     let m = Checkpoint::read(&dir.join("merged.ckpt")).unwrap();
     assert_eq!(m.accum.samples, 8);
     assert_eq!(m.settings.seeds, vec![1, 2]);
-    for i in 0..m.accum.sum.len() {
+    for i in 0..m.accum.even.len() {
         for c in 0..3 {
-            assert_eq!(m.accum.sum[i][c], a.accum.sum[i][c] + b.accum.sum[i][c], "merged sum of pixel {i}");
+            assert_eq!(m.accum.even[i][c], a.accum.even[i][c] + b.accum.even[i][c], "merged even sum of pixel {i}");
+            assert_eq!(m.accum.odd[i][c], a.accum.odd[i][c] + b.accum.odd[i][c], "merged odd sum of pixel {i}");
         }
     }
     // The same seed twice would count its samples twice.

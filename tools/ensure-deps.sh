@@ -6,8 +6,10 @@
 # driver is Mesa's lavapipe. We want Mesa 25 from Debian's bookworm-backports suite rather than
 # Debian 12's stock Mesa 22.3: it ran our ray-triangle kernel 12x faster (306 vs 26 M tests/s).
 #
-# Usage: tools/ensure-deps.sh [--with-validation]
+# Usage: tools/ensure-deps.sh [--with-validation] [--with-slurm]
 #   --with-validation  also install the Khronos validation layers (the tests turn them on when present)
+#   --with-slurm       also install Slurm and MUNGE (slurm-wlm, munge): tests/slurm.rs starts a
+#                      one-node cluster of its own with them (no systemd services are used)
 #
 # Prints what it installs; prints nothing more than one line when everything is already there.
 set -euo pipefail
@@ -15,10 +17,12 @@ set -euo pipefail
 export PATH="$PATH:/usr/local/sbin:/usr/sbin:/sbin"
 
 want_validation=0
+want_slurm=0
 for arg in "$@"; do
   case "$arg" in
     --with-validation) want_validation=1 ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --with-slurm) want_slurm=1 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "ensure-deps: unknown argument '$arg'" >&2; exit 2 ;;
   esac
 done
@@ -45,9 +49,13 @@ have_loader || missing+=(libvulkan1)
 need_mesa=0
 have_lavapipe || need_mesa=1
 if [ "$want_validation" = 1 ] && ! have_validation; then missing+=(vulkan-validationlayers); fi
+if [ "$want_slurm" = 1 ]; then
+  { have_cmd sbatch && have_cmd slurmctld && have_cmd slurmd; } || missing+=(slurm-wlm)
+  { have_cmd munged && have_cmd mungekey; } || missing+=(munge)
+fi
 
 if [ ${#missing[@]} -eq 0 ] && [ "$need_mesa" = 0 ]; then
-  echo "ensure-deps: Vulkan loader, Mesa $(mesa_major) lavapipe and glslang are present"
+  echo "ensure-deps: Vulkan loader, Mesa $(mesa_major) lavapipe and glslang are present$( [ $want_slurm = 1 ] && echo ", and Slurm and MUNGE" )"
   exit 0
 fi
 

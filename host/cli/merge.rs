@@ -1,5 +1,6 @@
-//! `vkrt merge`: adds checkpoints of runs with different seeds into one image or checkpoint;
-//! one checkpoint alone becomes its image.
+//! `vkrt merge`: adds checkpoints of runs with different seeds, or the shards of one sharded
+//! run (`vkrt render --shard`), into one image or checkpoint; one checkpoint alone becomes its
+//! image. Merged shards are the same bytes as the run rendered whole.
 
 use super::render::DisplayArgs;
 use crate::integrator::path::checkpoint::Checkpoint;
@@ -11,7 +12,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Args)]
 pub struct MergeArgs {
     /// Checkpoints written by `vkrt render --integrator path --checkpoint`, of runs with
-    /// different seeds (one alone is turned into its image).
+    /// different seeds, or every shard of one `--shard` run (one alone is turned into its image).
     #[arg(required = true, num_args = 1..)]
     pub inputs: Vec<PathBuf>,
     /// The result: an image (.png after --exposure and --tonemap, .exr or .pfm linear) or a
@@ -39,13 +40,19 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         let names = (first.display().to_string(), p.display().to_string());
         merged.merge(&c, (&names.0, &names.1)).with_context(|| format!("merging {} into {}", p.display(), first.display()))?;
     }
+    if let Some(missing) = merged.settings.shards.as_ref().and_then(|s| s.missing_message()) {
+        if !is_checkpoint(&args.output) {
+            bail!("{missing}: the shards given are not the whole run (merge them into a .ckpt to add the rest later)");
+        }
+        eprintln!("note: {missing}; {} holds the shards given, to merge with the rest later", args.output.display());
+    }
     if is_checkpoint(&args.output) {
         merged.write(&args.output)?;
     } else {
         output::write_render(&args.output, &merged.accum.image(), &args.display.display())?;
     }
     eprintln!(
-        "merged {} run(s) (seeds {:?}): {} spp into {}",
+        "merged {} checkpoint(s) (seeds {:?}): {} spp into {}",
         args.inputs.len(),
         merged.settings.seeds,
         merged.accum.samples,

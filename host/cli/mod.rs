@@ -9,6 +9,7 @@ pub mod interrupt;
 pub mod merge;
 pub mod progress;
 pub mod rays;
+pub mod shard;
 pub mod render;
 pub mod render_path;
 pub mod trace;

@@ -7,6 +7,9 @@
 use super::args::{at_least_one, exposure, fov, vec3, whole};
 use super::progress::{Progress, Status};
 use super::render_path::{self, PathArgs, PathRun};
+use super::shard;
+use crate::integrator::path::shard::Shard;
+use crate::integrator::path::Stop;
 use super::DeviceArgs;
 use crate::accel::LayoutKind;
 use crate::bvh::{BuildConfig, BuilderKind};
@@ -209,15 +212,15 @@ fn choose_integrator(args: &RenderArgs, say: &Say) -> Result<IntegratorKind> {
     }
 }
 
-/// Bytes per pixel of a render: the largest buffer bound whole (its accumulation buffer, 16),
+/// Bytes per pixel of a render: the largest buffer bound whole (an accumulation buffer or plane),
 /// all the device's buffers, and what the host holds at the end (sums read back, the image,
 /// the encoded picture), for each integrator.
 fn bytes_per_pixel(integrator: IntegratorKind) -> (u64, u64, u64) {
     match integrator {
         IntegratorKind::Whitted => (16, 16, 16 + 12 + 12 + 4),
-        // Sum and even-sample buffers and ray counts; on the host two copies of the sums while
-        // one is read back, the image and the picture.
-        IntegratorKind::Path => (16, 16 + 16 + 4, 2 * 32 + 12 + 12 + 4),
+        // Seven planes of 8 bytes (fixed-point sums, counts) and ray counts; on the host two
+        // copies of the sums while one is read back, the image and the picture.
+        IntegratorKind::Path => (8, 7 * 8 + 4, 2 * 56 + 12 + 12 + 4),
     }
 }
 
@@ -291,6 +294,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
     }
     let defaults = stored.map(|s| &s.resume).filter(|r| !r.output.is_empty());
+    // A shard: asked for now, or the resumed checkpoint's (a preempted shard goes on).
+    let requested = args.path.shard.requested(&|name| std::env::var(name).ok())?;
+    let timed = args.path.time.is_some() || args.path.target_relmse.is_some();
+    let mut shard = shard::resolve(requested, args.spp.map(u64::from), args.path.adaptive, timed)?;
+    if let Some(set) = stored.and_then(|s| s.shards.as_ref()) {
+        let &[index] = set.indices.as_slice() else {
+            bail!("cannot resume merged shards ({:?} of {}): merge the rest with `vkrt merge`", set.indices, set.count);
+        };
+        let held = Shard::new(index, set.count, set.total_spp)?;
+        if shard.is_some_and(|s| s != held) {
+            bail!("the checkpoint is shard {} of a {}-spp run; this command asks for another part", held.label(), held.total_spp);
+        }
+        shard = Some(held);
+    }
     let scene_path = match (&args.scene, stored) {
         (Some(p), _) => p.clone(),
         (None, Some(s)) => PathBuf::from(&s.scene_path),
@@ -302,6 +319,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         (None, None) if resumed.is_some() => bail!("the checkpoint does not record its output (an older vkrt wrote it): give -o"),
         (None, None) => bail!("no output given: -o FILE (.png, .exr or .pfm)"),
     };
+    let output = shard::output_path(&output, shard)?;
     let width = args.width.or(stored.map(|s| s.width)).unwrap_or(DEFAULT_SIZE);
     let height = args.height.or(stored.map(|s| s.height)).unwrap_or(DEFAULT_SIZE);
     let seed = args.seed.or(stored.and_then(|s| s.seeds.first().copied())).unwrap_or(0);
@@ -310,7 +328,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let display = args.display.display();
 
     // Checks that need no scene.
-    output::check_writable(&output)?;
+    if shard.is_some() {
+        if args.preview.is_some() || args.path.preview_every.is_some() {
+            bail!("a shard writes only its sums (-o .ckpt): --preview and --preview-every show an image, which shards do not have");
+        }
+        if args.path.checkpoint.as_ref().is_some_and(|c| *c != output) {
+            bail!("a shard writes its sums to -o {}: leave out --checkpoint", output.display());
+        }
+    } else {
+        output::check_writable(&output)?;
+    }
     if let Some(p) = &args.preview {
         if output::ImageFormat::from_path(p).ok() != Some(output::ImageFormat::Png) {
             bail!("--preview {}: a preview is an 8-bit picture; name a .png", p.display());
@@ -353,6 +380,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 
     let mut progress = Progress::new("rendering", args.quiet);
     let write_outputs = |image: &Image| -> Result<()> {
+        // A shard's output is its checkpoint, written by the run.
+        if shard.is_some() {
+            return Ok(());
+        }
         output::write_render(&output, image, &display)?;
         if let Some(p) = &args.preview {
             output::write_render(p, image, &display)?;
@@ -388,6 +419,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             let stop = render_path::stop_rules(args.spp, &args.path, stored.map(|s| &s.resume));
             let mut settings = render_path::path_settings(&args.path, image, args.max_depth, stored, stop);
             settings.adaptive |= resumed.as_ref().is_some_and(|c| c.accum.per_pixel);
+            if let Some(s) = shard {
+                let (first, n) = s.range();
+                settings.first_sample = first;
+                settings.stop = Stop { spp: Some(n), ..Stop::default() };
+            }
             let run = PathRun {
                 scene: &scene,
                 scene_path: absolute(&scene_path).display().to_string(),
@@ -398,12 +434,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 output: absolute(&output).display().to_string(),
                 builder: builder.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default(),
                 layout: layout.name().to_string(),
-                // A resumed run keeps saving into its checkpoint unless told otherwise.
-                checkpoint: args.path.checkpoint.clone().or_else(|| args.path.resume.clone()),
+                // A shard saves into -o; a resumed run keeps saving into its checkpoint unless
+                // told otherwise.
+                checkpoint: if shard.is_some() { Some(output.clone()) } else { args.path.checkpoint.clone().or_else(|| args.path.resume.clone()) },
                 checkpoint_interval: args.path.checkpoint_interval.unwrap_or(render_path::DEFAULT_CHECKPOINT_INTERVAL_S),
                 resume: resumed,
                 resume_path: args.path.resume.clone(),
                 preview_every: args.path.preview_every,
+                shard,
             };
             let mut preview = |image: &Image| write_outputs(image);
             let out = render_path::render(&ctx, &gpu, &run, &mut progress, &mut preview, &|line| say.line(line))?;

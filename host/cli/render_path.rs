@@ -5,9 +5,11 @@
 use super::args::{at_least_one, positive};
 use super::interrupt::interrupt_flag;
 use super::progress::{Progress, Status};
+use super::shard::ShardArgs;
 use crate::gpu::Context;
 use crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED;
 use crate::integrator::path::checkpoint::{hash_inputs, Checkpoint, Identity, ResumeDefaults, RunSettings};
+use crate::integrator::path::shard::{Shard, ShardSet};
 use crate::integrator::path::{self, Accumulation, Hooks, PathProgress, PathSettings, SamplerKind, Stop};
 use crate::integrator::{Image, RenderSettings, RenderStats};
 use crate::prepare::GpuScene;
@@ -73,6 +75,8 @@ pub struct PathArgs {
     /// image viewer that reloads shows it converge.
     #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
     pub preview_every: Option<f64>,
+    #[command(flatten)]
+    pub shard: ShardArgs,
 }
 
 impl PathArgs {
@@ -96,6 +100,7 @@ impl PathArgs {
         add(self.coherence.is_some(), "--coherence");
         add(self.adaptive, "--adaptive");
         add(self.preview_every.is_some(), "--preview-every");
+        v.extend(self.shard.given());
         v
     }
 }
@@ -122,6 +127,8 @@ pub struct PathRun<'a> {
     /// The checkpoint to continue.
     pub resume: Option<Checkpoint>,
     pub resume_path: Option<PathBuf>,
+    /// The part of a sharded run this is (its sums go to `checkpoint`), if it is one.
+    pub shard: Option<Shard>,
     pub preview_every: Option<f64>,
 }
 
@@ -139,6 +146,7 @@ pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u
         coherence: args.coherence.or(resumed.map(|r| r.coherence)).unwrap_or(1),
         adaptive: args.adaptive,
         stop,
+        first_sample: 0,
     }
 }
 
@@ -172,6 +180,7 @@ fn run_settings(run: &PathRun, identity: Identity) -> RunSettings {
         max_depth: s.max_depth.unwrap_or(PATH_DEPTH_UNBOUNDED),
         nee: s.nee as u32,
         coherence: s.coherence,
+        shards: run.shard.map(ShardSet::of),
         resume: ResumeDefaults {
             output: run.output.clone(),
             builder: run.builder.clone(),
@@ -207,6 +216,10 @@ fn resumed_sums(c: &Checkpoint, path: &Path, run: &PathRun, ours: &RunSettings, 
     })?;
     if c.settings.seeds != ours.seeds {
         bail!("cannot resume {}: it holds seeds {:?}, this run uses seed {}", path.display(), c.settings.seeds, run.seed);
+    }
+    if c.settings.shards != ours.shards {
+        let show = |s: &Option<ShardSet>| s.as_ref().map_or("a whole run".to_string(), |s| format!("shards {:?} of {} ({} spp)", s.indices, s.count, s.total_spp));
+        bail!("cannot resume {}: it holds {}, this run is {}", path.display(), show(&c.settings.shards), show(&ours.shards));
     }
     Ok(c.accum.clone())
 }

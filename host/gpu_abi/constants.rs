@@ -43,9 +43,6 @@ shared_constants! {
     BINDING_LIGHT_PICKS = 10;
     /// The path tracer's settings (`GpuPathParams`, uniform buffer).
     BINDING_PATH_PARAMS = 11;
-    /// Radiance of the even-indexed samples only, one vec4 per pixel: with BINDING_ACCUM it
-    /// gives two independent half-images whose difference estimates the error.
-    BINDING_ACCUM_EVEN = 12;
     /// Texture table (`GpuTexture[]`): where each texture's texels start in BINDING_TEXELS.
     BINDING_TEXTURES = 13;
     /// Every texture's texels, packed RGBA8 (one u32 each, red in the low byte), concatenated:
@@ -62,6 +59,26 @@ shared_constants! {
     /// The path tracer's rays traced per pixel (`uint[]`, added to by each dispatch): what the
     /// progress line's rays/s counts. Each pixel is one invocation's, so no atomics.
     BINDING_RAY_COUNTS = 27;
+    /// The path tracer's sums: six planes of one fixed-point u64 per pixel (`uvec2` low, high
+    /// word), the even-indexed samples' r, g, b and the odd-indexed samples' r, g, b (two
+    /// independent half-images, whose difference estimates the error), and a plane of
+    /// (samples taken, samples dropped) per pixel. Planes, not one struct per pixel, so that
+    /// one binding stays 8 bytes per pixel (a 4096² image in lavapipe's 128 MiB).
+    BINDING_SUM_EVEN_R = 28;
+    BINDING_SUM_EVEN_G = 29;
+    BINDING_SUM_EVEN_B = 30;
+    BINDING_SUM_ODD_R = 31;
+    BINDING_SUM_ODD_G = 32;
+    BINDING_SUM_ODD_B = 33;
+    BINDING_SAMPLE_COUNTS = 34;
+    /// Fractional bits of those sums: a sample's radiance c >= 0 adds round(c 2^24). Integer
+    /// sums are exact and the same in any order, so a run split into batches, resumed runs and
+    /// merged shards give the same bytes as one run. Quantum 6e-8; a pixel's sum holds up to
+    /// 2^40 (1.1e12) of radiance: 1e6 samples of 1e6.
+    ACCUM_FRACTION_BITS = 24;
+    /// Samples brighter than 2^ACCUM_MAX_SAMPLE_LOG2 (4.3e9) in a channel are dropped and
+    /// counted, like NaN and Inf: the sums could not hold many.
+    ACCUM_MAX_SAMPLE_LOG2 = 32;
 
     /// Specialization constant ids of the workgroup size (`local_size_*_id`); the sizes are
     /// chosen per device by `gpu::Workgroups::for_device`.

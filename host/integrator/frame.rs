@@ -46,5 +46,4 @@ pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_TEXELS, BindingKind::Texels),
     (BINDING_UVS, BindingKind::Texels),
     (BINDING_FRAME, BindingKind::Uniform),
-    (BINDING_ACCUM, BindingKind::Storage),
 ];

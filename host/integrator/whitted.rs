@@ -8,7 +8,7 @@ use crate::gpu::{Buffer, Context, MemoryLocation};
 use crate::gpu_abi::constants::*;
 use crate::gpu_abi::{GpuFrame, GpuPush};
 use crate::pipeline::shaders::Tracing;
-use crate::pipeline::ComputePipeline;
+use crate::pipeline::{BindingKind, ComputePipeline};
 use crate::prepare::GpuScene;
 use anyhow::{bail, Result};
 use ash::vk;
@@ -41,11 +41,12 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
     let accum = Buffer::new(ctx, "accumulation", pixels * 16, vk::BufferUsageFlags::STORAGE_BUFFER, MemoryLocation::Device)?;
     accum.clear()?;
     let features = settings.features(&scene.info);
+    let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().copied().chain([(BINDING_ACCUM, BindingKind::Storage)]).collect();
     let pipeline = ComputePipeline::specialized(
         ctx,
         "whitted",
         Tracing::Whitted.spirv(scene.bvh.layout),
-        INTEGRATOR_BINDINGS,
+        &bindings,
         std::mem::size_of::<GpuPush>() as u32,
         &features.spec_constants(),
     )?;

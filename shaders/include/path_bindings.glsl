@@ -5,9 +5,15 @@
 #include "gpu_abi.glsl"
 
 layout(std140, set = 0, binding = BINDING_PATH_PARAMS) uniform PathParams { GpuPathParams params; };
-// rgb: radiance sum of the even-indexed samples; w: samples taken for the pixel (exact as a
-// float up to 2^24), which adaptive runs need per pixel.
-layout(std430, set = 0, binding = BINDING_ACCUM_EVEN) buffer AccumEven { vec4 accum_even[]; };
+// The sums: one fixed-point u64 (low, high word) per pixel in each plane (constants.rs,
+// BINDING_SUM_*; fixed_point.glsl adds to them), and per pixel (samples taken, dropped).
+layout(std430, set = 0, binding = BINDING_SUM_EVEN_R) buffer SumEvenR { uvec2 sum_even_r[]; };
+layout(std430, set = 0, binding = BINDING_SUM_EVEN_G) buffer SumEvenG { uvec2 sum_even_g[]; };
+layout(std430, set = 0, binding = BINDING_SUM_EVEN_B) buffer SumEvenB { uvec2 sum_even_b[]; };
+layout(std430, set = 0, binding = BINDING_SUM_ODD_R) buffer SumOddR { uvec2 sum_odd_r[]; };
+layout(std430, set = 0, binding = BINDING_SUM_ODD_G) buffer SumOddG { uvec2 sum_odd_g[]; };
+layout(std430, set = 0, binding = BINDING_SUM_ODD_B) buffer SumOddB { uvec2 sum_odd_b[]; };
+layout(std430, set = 0, binding = BINDING_SAMPLE_COUNTS) buffer SampleCounts { uvec2 sample_counts[]; };
 // Adaptive sampling: (first sample index, count) per block of params.adaptive pixels in a
 // row, keyed as sample_key. Read once per invocation, so a storage buffer.
 layout(std430, set = 0, binding = BINDING_BLOCK_SAMPLES) readonly buffer BlockSamples { uvec2 block_samples[]; };

@@ -40,6 +40,9 @@ void main() {
             + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x);
     accum[0] = vec4(s);
     hits[0].t = s;
-    accum_even[0] = vec4(s);
+    uvec2 w = uvec2(s);
+    sum_even_r[0] = w; sum_even_g[0] = w; sum_even_b[0] = w;
+    sum_odd_r[0] = w; sum_odd_g[0] = w; sum_odd_b[0] = w;
+    sample_counts[0] = w;
     ray_counts[0] = uint(s);
 }

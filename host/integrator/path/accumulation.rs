@@ -1,31 +1,45 @@
 //! A progressive render's running sums: what the GPU accumulates, what checkpoints store and
 //! what `vkrt merge` adds. The image is the sum over the sample count (a box filter: every
-//! sample of a pixel lands inside it, weight 1). Uniform runs take the same count in every
-//! pixel; adaptive runs (`super::adaptive`) an even count of its own per pixel, kept in
-//! `even[p][3]`, half of it even-indexed.
+//! sample of a pixel lands inside it, weight 1). Sums are fixed-point integers (units of
+//! 2^-ACCUM_FRACTION_BITS, `gpu_abi::constants`): adding them is exact and independent of
+//! order, so a run in any number of batches, a resumed run and merged shards of a run are the
+//! same bytes. Uniform runs take the same count in every pixel; adaptive runs
+//! (`super::adaptive`) an even count of its own per pixel, half of it even-indexed.
 
+use crate::gpu_abi::constants::ACCUM_FRACTION_BITS;
 use crate::integrator::Image;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context as _, Result};
+
+/// Radiance of one fixed-point unit.
+pub const FIXED_UNIT: f64 = 1.0 / (1u64 << ACCUM_FRACTION_BITS) as f64;
 
 /// Radiance sums per pixel, row 0 at the top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Accumulation {
     pub width: u32,
     pub height: u32,
-    /// Samples taken per pixel (sample indices 0 .. samples of each seed); for adaptive runs
-    /// the mean over the pixels, rounded down (the counts are in `even[p][3]`).
+    /// Samples taken per pixel (from the run's first sample index on); for adaptive runs the
+    /// mean over the pixels, rounded down (each pixel's own count is in `counts`).
     pub samples: u64,
-    /// Samples whose index is even, per pixel: the size of the first half-image (uniform runs).
+    /// How many of those have an even index: the size of the first half-image (uniform runs).
     pub even_samples: u64,
-    /// rgb: radiance sum of all samples; w: samples dropped as NaN or infinite.
-    pub sum: Vec<[f32; 4]>,
-    /// rgb: radiance sum of the even-indexed samples; w: the pixel's sample count.
-    pub even: Vec<[f32; 4]>,
-    /// Adaptive run: each pixel has its own (even) sample count, `even[p][3]`.
+    /// Fixed-point radiance sums (r, g, b) of the even-indexed samples, per pixel.
+    pub even: Vec<[u64; 3]>,
+    /// The same for the odd-indexed samples.
+    pub odd: Vec<[u64; 3]>,
+    /// Per pixel: samples taken, and how many of them were dropped (NaN, Inf or beyond the
+    /// fixed-point range; they count as zero radiance).
+    pub counts: Vec<[u32; 2]>,
+    /// Adaptive run: each pixel has its own (even) sample count, `counts[p][0]`.
     pub per_pixel: bool,
     /// Adaptive run past its pilot: samples per round of each coherence block
     /// (`super::adaptive::block_rates`); empty otherwise.
     pub rates: Vec<u32>,
+}
+
+/// Even sample indices in `first .. first + n`.
+pub fn even_indices(first: u64, n: u64) -> u64 {
+    (first + n).div_ceil(2) - first.div_ceil(2)
 }
 
 impl Accumulation {
@@ -36,8 +50,9 @@ impl Accumulation {
             height,
             samples: 0,
             even_samples: 0,
-            sum: vec![[0.0; 4]; n],
-            even: vec![[0.0; 4]; n],
+            even: vec![[0; 3]; n],
+            odd: vec![[0; 3]; n],
+            counts: vec![[0; 2]; n],
             per_pixel: false,
             rates: Vec::new(),
         }
@@ -46,15 +61,15 @@ impl Accumulation {
     /// Pixel p's sample count, and the even-indexed part of it.
     pub fn counts(&self, p: usize) -> (u64, u64) {
         if self.per_pixel {
-            let n = self.even[p][3] as u64;
+            let n = u64::from(self.counts[p][0]);
             (n, n / 2)
         } else {
             (self.samples, self.even_samples)
         }
     }
 
-    /// Each pixel's sum (of `sums`) over its count (`count(p)`).
-    fn mean_of(&self, sums: impl Iterator<Item = [f32; 3]>, count: impl Fn(usize) -> u64) -> Image {
+    /// Each pixel's sum (of `sums`, fixed point) over its count (`count(p)`).
+    fn mean_of(&self, sums: impl Iterator<Item = [u64; 3]>, count: impl Fn(usize) -> u64) -> Image {
         Image {
             width: self.width,
             height: self.height,
@@ -62,26 +77,31 @@ impl Accumulation {
                 .enumerate()
                 .map(|(p, s)| {
                     let n = count(p);
-                    let inv = if n > 0 { 1.0 / n as f64 } else { 0.0 };
-                    s.map(|c| (c as f64 * inv) as f32)
+                    let scale = if n > 0 { FIXED_UNIT / n as f64 } else { 0.0 };
+                    s.map(|c| (c as f64 * scale) as f32)
                 })
                 .collect(),
         }
     }
 
+    /// Pixel p's sum over all its samples (even + odd; cannot overflow: `add` checks).
+    fn total(&self, p: usize) -> [u64; 3] {
+        let (e, o) = (self.even[p], self.odd[p]);
+        [e[0].wrapping_add(o[0]), e[1].wrapping_add(o[1]), e[2].wrapping_add(o[2])]
+    }
+
     /// The image: each pixel's mean sample.
     pub fn image(&self) -> Image {
-        self.mean_of(self.sum.iter().map(|s| [s[0], s[1], s[2]]), |p| self.counts(p).0)
+        self.mean_of((0..self.even.len()).map(|p| self.total(p)), |p| self.counts(p).0)
     }
 
     /// The two independent half-images: even-indexed samples and odd-indexed ones.
     pub fn halves(&self) -> (Image, Image) {
-        let odd = self.sum.iter().zip(&self.even).map(|(s, e)| [s[0] - e[0], s[1] - e[1], s[2] - e[2]]);
-        let odd = self.mean_of(odd, |p| {
+        let odd = self.mean_of(self.odd.iter().copied(), |p| {
             let (n, e) = self.counts(p);
             n - e
         });
-        (self.mean_of(self.even.iter().map(|e| [e[0], e[1], e[2]]), |p| self.counts(p).1), odd)
+        (self.mean_of(self.even.iter().copied(), |p| self.counts(p).1), odd)
     }
 
     /// Estimated relMSE of `image()` against the converged image, from the spread of the two
@@ -126,13 +146,23 @@ impl Accumulation {
             .collect()
     }
 
-    /// Samples dropped as NaN or infinite, over all pixels.
+    /// Samples dropped as NaN, infinite or out of range, over all pixels.
     pub fn nonfinite_samples(&self) -> u64 {
-        self.sum.iter().map(|s| s[3] as u64).sum()
+        self.counts.iter().map(|c| u64::from(c[1])).sum()
     }
 
-    /// Adds another run's sums (made with another seed) to this one: the result is exactly the
-    /// run that took both sets of samples.
+    /// Fails if a pixel's even and odd sums together would not fit the fixed-point range.
+    pub fn check_range(&self) -> Result<()> {
+        for (p, (e, o)) in self.even.iter().zip(&self.odd).enumerate() {
+            if (0..3).any(|c| e[c].checked_add(o[c]).is_none()) {
+                bail!("pixel {p}: its radiance sum overflows the fixed-point sums (2^40)");
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds another run's sums (another seed, or other sample indices of the same seed: a
+    /// shard): exactly the run that took both sets of samples, bit for bit.
     pub fn add(&mut self, other: &Accumulation) -> Result<()> {
         if (self.width, self.height) != (other.width, other.height) {
             bail!("image sizes differ: {}x{} and {}x{}", self.width, self.height, other.width, other.height);
@@ -140,14 +170,21 @@ impl Accumulation {
         if self.per_pixel != other.per_pixel {
             bail!("one run is adaptive and the other is not");
         }
-        for (a, b) in self.sum.iter_mut().zip(&other.sum).chain(self.even.iter_mut().zip(&other.even)) {
-            for c in 0..4 {
-                a[c] = (a[c] as f64 + b[c] as f64) as f32;
+        let overflow = || anyhow::anyhow!("the merged sums overflow the fixed-point range");
+        for (a, b) in self.even.iter_mut().zip(&other.even).chain(self.odd.iter_mut().zip(&other.odd)) {
+            for c in 0..3 {
+                a[c] = a[c].checked_add(b[c]).ok_or_else(overflow)?;
             }
         }
+        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
+            for c in 0..2 {
+                a[c] = a[c].checked_add(b[c]).context("a pixel's sample count passes 2^32")?;
+            }
+        }
+        self.check_range()?;
         self.samples += other.samples;
         self.even_samples += other.even_samples;
-        // Each seed's allocation was its own: the merged sums cannot go on with either.
+        // Each run's allocation was its own: the merged sums cannot go on with either.
         self.rates.clear();
         Ok(())
     }
@@ -160,11 +197,12 @@ mod tests {
     #[test]
     fn halves_split_the_sum_and_the_estimate_sees_noise() {
         let mut acc = Accumulation::new(2, 1);
+        let fixed = |x: f64| (x / FIXED_UNIT) as u64;
         // Pixel 0: samples 1 (even) and 3 (odd); pixel 1: 2 and 2.
         acc.samples = 2;
         acc.even_samples = 1;
-        acc.sum = vec![[4.0, 4.0, 4.0, 0.0], [4.0, 4.0, 4.0, 0.0]];
-        acc.even = vec![[1.0, 1.0, 1.0, 0.0], [2.0, 2.0, 2.0, 0.0]];
+        acc.even = vec![[fixed(1.0); 3], [fixed(2.0); 3]];
+        acc.odd = vec![[fixed(3.0); 3], [fixed(2.0); 3]];
         assert_eq!(acc.image().pixels, vec![[2.0; 3], [2.0; 3]]);
         let (a, b) = acc.halves();
         assert_eq!(a.pixels, vec![[1.0; 3], [2.0; 3]]);
@@ -173,5 +211,34 @@ mod tests {
         let want = (3.0 * 4.0 / 4.01) / 6.0 / 4.0;
         let got = acc.estimate_relmse().unwrap_or(f64::NAN);
         assert!((got - want).abs() < 1e-9, "estimate {got}, want {want}");
+    }
+
+    #[test]
+    fn merging_is_exact_in_any_order() {
+        let part = |k: u64| {
+            let mut a = Accumulation::new(1, 1);
+            a.even = vec![[k * 1_000_003, k, u64::from(k == 2)]];
+            a.odd = vec![[k * 7, 3 * k, 0]];
+            a.counts = vec![[k as u32, 0]];
+            a.samples = k;
+            a
+        };
+        let (mut left, mut right) = (part(1), part(3));
+        left.add(&part(2)).unwrap();
+        left.add(&part(3)).unwrap();
+        right.add(&part(2)).unwrap();
+        right.add(&part(1)).unwrap();
+        assert_eq!(left, right);
+        let mut full = part(1);
+        full.even[0][0] = u64::MAX;
+        assert!(full.add(&part(1)).is_err(), "an overflowing merge must fail");
+    }
+
+    #[test]
+    fn even_indices_count_from_any_first_sample() {
+        assert_eq!(even_indices(0, 5), 3);
+        assert_eq!(even_indices(1, 5), 2);
+        assert_eq!(even_indices(4, 0), 0);
+        assert_eq!(even_indices(3, 4), 2);
     }
 }

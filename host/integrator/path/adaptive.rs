@@ -154,14 +154,15 @@ mod tests {
     fn pilot(w: u32, h: u32, noise: impl Fn(u32, u32) -> f32) -> Accumulation {
         let mut acc = Accumulation::new(w, h);
         acc.per_pixel = true;
-        let half = PILOT_SPP as f32 / 2.0;
+        let half = PILOT_SPP as f64 / 2.0;
+        let fixed = |x: f64| (x / super::super::accumulation::FIXED_UNIT).round() as u64;
         for y in 0..h {
             for x in 0..w {
                 let p = (y * w + x) as usize;
-                let n = noise(x, y);
-                let e = (1.0 + n) * half;
-                acc.even[p] = [e, e, e, PILOT_SPP as f32];
-                acc.sum[p] = [2.0 * half, 2.0 * half, 2.0 * half, 0.0];
+                let n = f64::from(noise(x, y));
+                acc.even[p] = [fixed((1.0 + n) * half); 3];
+                acc.odd[p] = [fixed((1.0 - n) * half); 3];
+                acc.counts[p] = [PILOT_SPP, 0];
             }
         }
         acc

@@ -8,21 +8,29 @@
 //! the size and sampling settings. Only the seeds may differ (they are what a merge adds).
 //!
 //! Format (little-endian): magic `VKRTCKPT`, version u32, then the settings (strings as u32
-//! length + UTF-8), samples u64, even_samples u64, then width * height * 4 f32 of `sum` and as
-//! many of `even`, then (version 3) per_pixel u32 (1: adaptive run, counts in `even`'s w) and
-//! the adaptive block rates as a u32 count and that many u32, then (version 4) the sky
-//! override string and the inputs as a u32 count and that many (path string, hash u64).
-//! Versions 1 to 3 stored only an FNV-1a hash of the scene file itself, in the slot where
-//! version 4 stores 0; they still read, with that weaker identity ([`Identity::SceneFile`]).
+//! length + UTF-8), (version 5) the shards held (count u32, 0 for a whole run; total spp u64;
+//! index count u32 and the indices u32), samples u64, even_samples u64, then the sums: version
+//! 5 the fixed-point u64 r, g, b of the even-indexed samples per pixel, as many of the odd ones,
+//! and (samples, dropped) u32 per pixel; versions 1 to 4 float sums, width * height * 4 f32 of
+//! `sum` (rgb, dropped) and as many of `even` (rgb, count), read into fixed point (such a run
+//! resumes and merges, but not bit-identically with one rendered whole in format 5). Then
+//! (version 3) per_pixel u32 (1: adaptive run) and the adaptive block rates as a u32 count and
+//! that many u32, then (version 4) the sky override string and the inputs as a u32 count and
+//! that many (path string, hash u64). Versions 1 to 3 stored only an FNV-1a hash of the scene
+//! file itself, in the slot where version 4 stores 0; they still read, with that weaker
+//! identity ([`Identity::SceneFile`]).
 //! Written to a temporary file beside the target and renamed into place, so a crash never
 //! leaves a half-written checkpoint under the real name.
 
-use super::accumulation::Accumulation;
+use super::accumulation::{Accumulation, FIXED_UNIT};
+use super::shard::ShardSet;
 use anyhow::{bail, Context as _, Result};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"VKRTCKPT";
-const VERSION: u32 = 4;
+const VERSION: u32 = 5;
+/// The last format with float sums and no shards (still read).
+const VERSION_BEFORE_FIXED: u32 = 4;
 /// The format before `coherence` was stored (still read, as coherence 1).
 const VERSION_BEFORE_COHERENCE: u32 = 1;
 /// The format before adaptive runs (still read, as a uniform run).
@@ -97,6 +105,8 @@ pub struct RunSettings {
     pub nee: u32,
     /// Pixels in a row sharing sample numbers (`PathSettings::coherence`).
     pub coherence: u32,
+    /// For a sharded run, the parts the sums hold (`super::shard`); None for a whole run.
+    pub shards: Option<ShardSet>,
     /// What the run was asked for, to go on with when resumed.
     pub resume: ResumeDefaults,
 }
@@ -198,6 +208,19 @@ pub fn fnv1a_file(path: &Path) -> Result<u64> {
     Ok(fnv1a(&std::fs::read(path).with_context(|| format!("reading {} to hash it", path.display()))?))
 }
 
+/// Float sums of checkpoint formats 1 to 4 (`sum`: rgb and dropped; `even`: rgb of the
+/// even-indexed samples and, adaptive runs, the pixel's count) in fixed point, rounded.
+fn legacy_sums(accum: &mut Accumulation, sum: &[[f32; 4]], even: &[[f32; 4]], samples: u64) {
+    let fixed = |x: f32| (f64::from(x.max(0.0)) / FIXED_UNIT).round() as u64;
+    for (p, (s, e)) in sum.iter().zip(even).enumerate() {
+        accum.even[p] = [fixed(e[0]), fixed(e[1]), fixed(e[2])];
+        accum.odd[p] = [fixed(s[0] - e[0]), fixed(s[1] - e[1]), fixed(s[2] - e[2])];
+        // Uniform runs kept no per-pixel count; adaptive ones kept it in even's w.
+        let taken = if e[3] > 0.0 { e[3] as u32 } else { samples.min(u64::from(u32::MAX)) as u32 };
+        accum.counts[p] = [taken, s[3] as u32];
+    }
+}
+
 /// Settings plus sums.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Checkpoint {
@@ -238,6 +261,37 @@ impl<'a> Reader<'a> {
         let n = self.u32(field)? as usize;
         String::from_utf8(self.bytes(n, field)?.to_vec()).with_context(|| format!("field `{field}` is not UTF-8"))
     }
+    fn fixed(&mut self, count: usize, field: &str) -> Result<Vec<[u64; 3]>> {
+        let bytes = self.bytes(count.checked_mul(24).context("image too large")?, field)?;
+        Ok(bytes
+            .chunks_exact(24)
+            .map(|c| {
+                let w = |i: usize| u64::from_le_bytes(c[i..i + 8].try_into().unwrap_or([0; 8]));
+                [w(0), w(8), w(16)]
+            })
+            .collect())
+    }
+    fn counts(&mut self, count: usize) -> Result<Vec<[u32; 2]>> {
+        let bytes = self.bytes(count.checked_mul(8).context("image too large")?, "sample counts")?;
+        Ok(bytes
+            .chunks_exact(8)
+            .map(|c| [u32::from_le_bytes([c[0], c[1], c[2], c[3]]), u32::from_le_bytes([c[4], c[5], c[6], c[7]])])
+            .collect())
+    }
+    /// The shards field: None for a whole run (count 0).
+    fn shards(&mut self) -> Result<Option<ShardSet>> {
+        let count = self.u32("shard count")?;
+        let total_spp = self.u64("shard total spp")?;
+        let n = self.u32("shard index count")?;
+        if n > count {
+            bail!("field `shard index count` is {n}, more than the {count} shards");
+        }
+        let indices = (0..n).map(|_| self.u32("shard index")).collect::<Result<Vec<_>>>()?;
+        if indices.iter().any(|&i| i >= count) || indices.windows(2).any(|w| w[0] >= w[1]) {
+            bail!("field `shard index` is not an ascending list of shards below {count}");
+        }
+        Ok((count > 0).then_some(ShardSet { count, total_spp, indices }))
+    }
     fn floats(&mut self, count: usize, field: &str) -> Result<Vec<[f32; 4]>> {
         let bytes = self.bytes(count.checked_mul(16).context("image too large")?, field)?;
         Ok(bytes
@@ -253,7 +307,7 @@ impl<'a> Reader<'a> {
 impl Checkpoint {
     pub fn to_bytes(&self) -> Vec<u8> {
         let s = &self.settings;
-        let mut out = Vec::with_capacity(64 + self.accum.sum.len() * 32);
+        let mut out = Vec::with_capacity(256 + self.accum.even.len() * 56);
         out.extend_from_slice(MAGIC);
         out.extend_from_slice(&VERSION.to_le_bytes());
         put_str(&mut out, &s.scene_path);
@@ -273,9 +327,22 @@ impl Checkpoint {
         for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence] {
             out.extend_from_slice(&v.to_le_bytes());
         }
+        let none = ShardSet { count: 0, total_spp: 0, indices: Vec::new() };
+        let shards = s.shards.as_ref().unwrap_or(&none);
+        out.extend_from_slice(&shards.count.to_le_bytes());
+        out.extend_from_slice(&shards.total_spp.to_le_bytes());
+        out.extend_from_slice(&(shards.indices.len() as u32).to_le_bytes());
+        for i in &shards.indices {
+            out.extend_from_slice(&i.to_le_bytes());
+        }
         out.extend_from_slice(&self.accum.samples.to_le_bytes());
         out.extend_from_slice(&self.accum.even_samples.to_le_bytes());
-        for px in self.accum.sum.iter().chain(&self.accum.even) {
+        for px in self.accum.even.iter().chain(&self.accum.odd) {
+            for c in px {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        for px in &self.accum.counts {
             for c in px {
                 out.extend_from_slice(&c.to_le_bytes());
             }
@@ -330,14 +397,22 @@ impl Checkpoint {
         let nee = r.u32("nee")?;
         // Version 1 predates the setting: its runs gave every pixel its own numbers.
         let coherence = if version == VERSION_BEFORE_COHERENCE { 1 } else { r.u32("coherence")? };
+        let shards = if version > VERSION_BEFORE_FIXED { r.shards()? } else { None };
         let samples = r.u64("samples")?;
         let even_samples = r.u64("even_samples")?;
         if even_samples > samples {
             bail!("even_samples {even_samples} exceeds samples {samples}");
         }
         let pixels = width as usize * height as usize;
-        let sum = r.floats(pixels, "sum")?;
-        let even = r.floats(pixels, "even")?;
+        let mut accum = Accumulation::new(width, height);
+        if version > VERSION_BEFORE_FIXED {
+            accum.even = r.fixed(pixels, "even sums")?;
+            accum.odd = r.fixed(pixels, "odd sums")?;
+            accum.counts = r.counts(pixels)?;
+        } else {
+            let (sum, even) = (r.floats(pixels, "sum")?, r.floats(pixels, "even")?);
+            legacy_sums(&mut accum, &sum, &even, samples);
+        }
         let (mut per_pixel, mut rates) = (false, Vec::new());
         if version > VERSION_BEFORE_ADAPTIVE {
             per_pixel = match r.u32("per_pixel")? {
@@ -395,9 +470,10 @@ impl Checkpoint {
                 max_depth,
                 nee,
                 coherence,
+                shards,
                 resume,
             },
-            accum: Accumulation { width, height, samples, even_samples, sum, even, per_pixel, rates },
+            accum: Accumulation { samples, even_samples, per_pixel, rates, ..accum },
         })
     }
 
@@ -420,15 +496,33 @@ impl Checkpoint {
         Self::from_bytes(&data).with_context(|| format!("checkpoint {}", path.display()))
     }
 
-    /// Adds `other`'s samples: same render, disjoint seeds (the same seed twice would count the
-    /// same samples twice). `names` say which is which in messages.
+    /// Adds `other`'s samples: the same render, and either other seeds (whole runs) or other
+    /// shards of the same sharded run (`super::shard`); anything else would count samples
+    /// twice or mix runs. `names` say which is which in messages.
     pub fn merge(&mut self, other: &Checkpoint, names: (&str, &str)) -> Result<()> {
         self.settings.check_same_render(&other.settings, names).context("cannot merge different renders")?;
-        if let Some(seed) = other.settings.seeds.iter().find(|s| self.settings.seeds.contains(s)) {
-            bail!("both runs used seed {seed}: their samples are the same, merging would count them twice");
+        match (&self.settings.shards, &other.settings.shards) {
+            (None, None) => {
+                if let Some(seed) = other.settings.seeds.iter().find(|s| self.settings.seeds.contains(s)) {
+                    bail!("both runs used seed {seed}: their samples are the same, merging would count them twice");
+                }
+                self.settings.seeds.extend_from_slice(&other.settings.seeds);
+            }
+            (Some(a), Some(b)) => {
+                if self.settings.seeds != other.settings.seeds {
+                    bail!("shards of different runs: seeds {:?} ({}) and {:?} ({})", self.settings.seeds, names.0, other.settings.seeds, names.1);
+                }
+                let union = a.union(b)?;
+                // All parts together are the whole run, as if rendered in one go.
+                self.settings.shards = if union.missing().is_empty() { None } else { Some(union) };
+            }
+            (Some(s), None) | (None, Some(s)) => bail!(
+                "one run is a shard of a {}-spp run cut into {} parts and the other a whole run: merge the shards first",
+                s.total_spp,
+                s.count
+            ),
         }
         self.accum.add(&other.accum)?;
-        self.settings.seeds.extend_from_slice(&other.settings.seeds);
         Ok(())
     }
 }
@@ -447,9 +541,12 @@ mod tests {
         let mut accum = Accumulation::new(3, 2);
         accum.samples = 5;
         accum.even_samples = 3;
-        for (i, p) in accum.sum.iter_mut().enumerate() {
-            *p = [i as f32, 0.5, seed as f32, 0.0];
+        for (i, p) in accum.even.iter_mut().enumerate() {
+            *p = [i as u64, 1 << 23, u64::from(seed) << 24];
         }
+        accum.odd[1] = [7, 0, 1];
+        accum.counts = vec![[5, 0]; 6];
+        accum.counts[2][1] = 1;
         let settings = RunSettings {
             scene_path: "a.yaml".into(),
             identity: Identity::Inputs {
@@ -466,6 +563,7 @@ mod tests {
             max_depth: u32::MAX,
             nee: 1,
             coherence: 1,
+            shards: None,
             resume: ResumeDefaults {
                 output: "/x/a.exr".into(),
                 builder: "sah".into(),
@@ -497,32 +595,77 @@ mod tests {
         c
     }
 
-    /// Format-3 files (the scene file's hash alone) and version-1 files (before `coherence`
-    /// was stored: read as coherence 1) still read.
+    /// The bytes vkrt wrote in `version` (1 to 3: no inputs, float sums) for `c`'s settings,
+    /// with float sums `sum` and `even` (rgb + dropped, rgb + count) per pixel.
+    fn legacy_bytes(c: &Checkpoint, version: u32, sum: &[[f32; 4]], even: &[[f32; 4]]) -> Vec<u8> {
+        let s = &c.settings;
+        let mut out = MAGIC.to_vec();
+        out.extend_from_slice(&version.to_le_bytes());
+        put_str(&mut out, &s.scene_path);
+        let Identity::SceneFile { fnv } = s.identity else { panic!("a legacy identity") };
+        out.extend_from_slice(&fnv.to_le_bytes());
+        for v in [s.width, s.height, s.seeds.len() as u32].iter().chain(&s.seeds) {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        put_str(&mut out, &s.integrator);
+        let mut words = vec![s.sampler, s.sample_rate, s.max_depth, s.nee];
+        if version > VERSION_BEFORE_COHERENCE {
+            words.push(s.coherence);
+        }
+        for v in words {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out.extend_from_slice(&c.accum.samples.to_le_bytes());
+        out.extend_from_slice(&c.accum.even_samples.to_le_bytes());
+        for x in sum.iter().chain(even).flatten() {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+        if version > VERSION_BEFORE_ADAPTIVE {
+            out.extend_from_slice(&[0u8; 8]);
+        }
+        out
+    }
+
+    /// Format-3 files (the scene file's hash alone, float sums) and version-1 files (before
+    /// `coherence` was stored: read as coherence 1) still read, their sums in fixed point.
     #[test]
     fn reads_older_formats() {
         let mut c = legacy(3);
         c.settings.coherence = 8;
-        // A legacy identity writes no inputs, so with the version word set to 3 these are the
-        // bytes vkrt wrote in format 3.
-        let mut v3 = c.to_bytes();
-        v3[8..12].copy_from_slice(&VERSION_BEFORE_INPUTS.to_le_bytes());
-        assert_eq!(Checkpoint::from_bytes(&v3).ok().as_ref(), Some(&c));
-        // The coherence word follows magic, version, path, hash, size, seeds, integrator and
-        // the four u32 settings before it.
-        let s = &c.settings;
-        let at = 8 + 4 + (4 + s.scene_path.len()) + 8 + 12 + 4 * s.seeds.len() + (4 + s.integrator.len()) + 16;
-        assert_eq!(v3[at..at + 4], 8u32.to_le_bytes());
-        // Version 1 also lacks version 3's adaptive fields at the end (two zero words here).
-        let v2 = &v3[..v3.len() - 8];
-        let mut v1 = [&v2[..at], &v2[at + 4..]].concat();
-        v1[8..12].copy_from_slice(&VERSION_BEFORE_COHERENCE.to_le_bytes());
-        let read = Checkpoint::from_bytes(&v1).unwrap();
+        let sum = vec![[3.0f32, 0.5, 0.0, 1.0]; 6];
+        let even = vec![[1.0f32, 0.25, 0.0, 0.0]; 6];
+        let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_INPUTS, &sum, &even)).unwrap();
+        assert_eq!(read.settings, c.settings);
+        assert_eq!(read.accum.even[0], [1 << 24, 1 << 22, 0]);
+        assert_eq!(read.accum.odd[0], [2 << 24, 1 << 22, 0]);
+        // Uniform runs kept no per-pixel count: the run's count; the dropped sample is kept.
+        assert_eq!(read.accum.counts[0], [5, 1]);
+        let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_COHERENCE, &sum, &even)).unwrap();
         assert_eq!(read.settings.coherence, 1);
-        assert_eq!(read.accum, c.accum);
+        assert_eq!(read.accum.image().pixels[0], [3.0 / 5.0, 0.1, 0.0]);
         let mut future = sample(3).to_bytes();
         future[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
         assert!(Checkpoint::from_bytes(&future).is_err(), "a newer version was accepted");
+    }
+
+    #[test]
+    fn shards_round_trip_and_merge_into_the_whole_run() {
+        use crate::integrator::path::shard::{Shard, ShardSet};
+        let part = |i: u32| {
+            let mut c = sample(9);
+            c.settings.shards = Some(ShardSet::of(Shard::new(i, 3, 16).unwrap()));
+            c
+        };
+        let a = part(0);
+        assert_eq!(Checkpoint::from_bytes(&a.to_bytes()).ok().as_ref(), Some(&a));
+        let mut m = part(2);
+        m.merge_for_test(&part(0)).unwrap();
+        assert_eq!(m.settings.shards.as_ref().and_then(|s| s.missing_message()).as_deref(), Some("shard 1 of 3 is missing (numbered from 0)"));
+        assert!(m.clone().merge_for_test(&part(0)).is_err(), "a shard twice");
+        assert!(m.clone().merge_for_test(&sample(9)).is_err(), "a shard and a whole run");
+        m.merge_for_test(&part(1)).unwrap();
+        assert_eq!(m.settings.shards, None, "all shards make the whole run");
+        assert_eq!(m.accum.samples, 15);
     }
 
     #[test]
@@ -569,6 +712,7 @@ mod tests {
         a.merge_for_test(&sample(2)).ok();
         assert_eq!(a.accum.samples, 10);
         assert_eq!(a.settings.seeds, vec![1, 2]);
-        assert_eq!(a.accum.sum[1], [2.0, 1.0, 3.0, 0.0]);
+        assert_eq!(a.accum.even[1], [2, 1 << 24, 3 << 24]);
+        assert_eq!(a.accum.odd[1], [14, 0, 2]);
     }
 }

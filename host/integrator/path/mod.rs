@@ -10,6 +10,7 @@ pub mod params;
 pub mod progress;
 pub mod render;
 pub mod schedule;
+pub mod shard;
 pub mod stop;
 
 pub use accumulation::Accumulation;
@@ -83,6 +84,9 @@ pub struct PathSettings {
     /// noise the pilot showed around it. Unbiased; `stop.spp` is then the mean over the pixels.
     pub adaptive: bool,
     pub stop: Stop,
+    /// The sample index this run starts at (0; a shard's first index, `super::shard`): its
+    /// samples are `first_sample ..`, `stop.spp` of them.
+    pub first_sample: u64,
 }
 
 impl Default for PathSettings {
@@ -96,6 +100,7 @@ impl Default for PathSettings {
             coherence: 1,
             adaptive: false,
             stop: Stop { spp: Some(16), ..Stop::default() },
+            first_sample: 0,
         }
     }
 }

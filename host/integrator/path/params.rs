@@ -13,7 +13,13 @@ use anyhow::{bail, Result};
 pub const PATH_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_LIGHT_PICKS, BindingKind::Texels),
     (BINDING_PATH_PARAMS, BindingKind::Uniform),
-    (BINDING_ACCUM_EVEN, BindingKind::Storage),
+    (BINDING_SUM_EVEN_R, BindingKind::Storage),
+    (BINDING_SUM_EVEN_G, BindingKind::Storage),
+    (BINDING_SUM_EVEN_B, BindingKind::Storage),
+    (BINDING_SUM_ODD_R, BindingKind::Storage),
+    (BINDING_SUM_ODD_G, BindingKind::Storage),
+    (BINDING_SUM_ODD_B, BindingKind::Storage),
+    (BINDING_SAMPLE_COUNTS, BindingKind::Storage),
     (BINDING_BLOCK_SAMPLES, BindingKind::Storage),
     (BINDING_RAY_COUNTS, BindingKind::Storage),
 ];

@@ -3,7 +3,7 @@
 //! and the interrupt flag ([`super::progress`]). Which samples a batch takes is
 //! [`super::schedule`]'s; the GPU buffers and pipeline are [`PathGpu`]'s.
 
-use super::accumulation::Accumulation;
+use super::accumulation::{even_indices, Accumulation};
 use super::adaptive::{block_rates, BlockGrid, PILOT_SPP};
 use super::params::{path_params, PATH_BINDINGS};
 use super::progress::{Hooks, PathProgress};
@@ -28,10 +28,15 @@ const ESTIMATE_INTERVAL_S: f64 = 1.0;
 /// A read-back takes at most this share of the run: big images refresh the estimate less often.
 const ESTIMATE_TIME_SHARE: f64 = 0.05;
 
-/// A path-traced render's GPU side: its uniforms, accumulation buffers and pipeline.
+/// The sum planes' bindings: even-indexed samples' r, g, b, then odd-indexed ones'.
+const SUM_PLANES: [u32; 6] = [BINDING_SUM_EVEN_R, BINDING_SUM_EVEN_G, BINDING_SUM_EVEN_B, BINDING_SUM_ODD_R, BINDING_SUM_ODD_G, BINDING_SUM_ODD_B];
+
+/// A path-traced render's GPU side: its uniforms, sum planes and pipeline.
 struct PathGpu<'a> {
-    sum: Buffer<'a>,
-    even: Buffer<'a>,
+    /// One fixed-point u64 per pixel each, in `SUM_PLANES` order.
+    planes: Vec<Buffer<'a>>,
+    /// (samples taken, dropped) per pixel.
+    counts: Buffer<'a>,
     /// Each block's (first sample, count) for the next batch of an adaptive run.
     blocks: Buffer<'a>,
     /// Rays traced per pixel, for rays/s.
@@ -54,10 +59,20 @@ impl<'a> PathGpu<'a> {
         let frame_buf = Buffer::with_data(ctx, "frame", std::slice::from_ref(&frame), uniform)?;
         let params_buf = Buffer::with_data(ctx, "path params", std::slice::from_ref(&params), uniform)?;
         let pixels = img.width as u64 * img.height as u64;
-        let sum = Buffer::new(ctx, "accumulation", pixels * 16, storage, MemoryLocation::Device)?;
-        let even = Buffer::new(ctx, "accumulation (even samples)", pixels * 16, storage, MemoryLocation::Device)?;
-        sum.write(bytemuck::cast_slice(&acc.sum))?;
-        even.write(bytemuck::cast_slice(&acc.even))?;
+        let names = ["sums (even, r)", "sums (even, g)", "sums (even, b)", "sums (odd, r)", "sums (odd, g)", "sums (odd, b)"];
+        let mut planes = Vec::with_capacity(SUM_PLANES.len());
+        for (k, name) in names.iter().enumerate() {
+            let plane = Buffer::new(ctx, name, pixels * 8, storage, MemoryLocation::Device)?;
+            let half = if k < 3 { &acc.even } else { &acc.odd };
+            plane.write_with(pixels as usize, |dst: &mut [u64]| {
+                for (d, s) in dst.iter_mut().zip(half) {
+                    *d = s[k % 3];
+                }
+            })?;
+            planes.push(plane);
+        }
+        let counts = Buffer::new(ctx, "sample counts", pixels * 8, storage, MemoryLocation::Device)?;
+        counts.write(bytemuck::cast_slice(&acc.counts))?;
         let blocks = Buffer::new(ctx, "block samples", block_count as u64 * 8, storage, MemoryLocation::Device)?;
         let rays = Buffer::new(ctx, "ray counts", pixels * 4, storage, MemoryLocation::Device)?;
         rays.clear()?;
@@ -77,27 +92,39 @@ impl<'a> PathGpu<'a> {
             &pipeline,
             &[
                 (BINDING_FRAME, &frame_buf),
-                (BINDING_ACCUM, &sum),
                 (BINDING_PATH_PARAMS, &params_buf),
-                (BINDING_ACCUM_EVEN, &even),
+                (BINDING_SAMPLE_COUNTS, &counts),
                 (BINDING_BLOCK_SAMPLES, &blocks),
                 (BINDING_RAY_COUNTS, &rays),
             ],
         )?;
-        Ok(Self { sum, even, blocks, rays, pipeline, _frame: frame_buf, _params: params_buf })
+        for (binding, plane) in SUM_PLANES.iter().zip(&planes) {
+            pipeline.bind(*binding, plane)?;
+        }
+        Ok(Self { planes, counts, blocks, rays, pipeline, _frame: frame_buf, _params: params_buf })
     }
 
     /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
     /// the adaptive rates). `samples`: per pixel, or the mean for per-pixel counts.
-    fn read(&self, like: &Accumulation, samples: u64) -> Result<Accumulation> {
+    fn read(&self, like: &Accumulation, samples: u64, first_sample: u64) -> Result<Accumulation> {
         let pixels = like.width as usize * like.height as usize;
         let mut acc = Accumulation::new(like.width, like.height);
-        acc.sum = self.sum.read_as(pixels).context("reading the accumulation buffer")?;
-        acc.even = self.even.read_as(pixels).context("reading the even-sample buffer")?;
+        for (k, plane) in self.planes.iter().enumerate() {
+            let half = if k < 3 { &mut acc.even } else { &mut acc.odd };
+            plane
+                .read_with(pixels, |src: &[u64]| {
+                    for (d, s) in half.iter_mut().zip(src) {
+                        d[k % 3] = *s;
+                    }
+                })
+                .context("reading the sums")?;
+        }
+        acc.counts = self.counts.read_as(pixels).context("reading the sample counts")?;
         acc.samples = samples;
-        acc.even_samples = if like.per_pixel { samples / 2 } else { samples.div_ceil(2) };
+        acc.even_samples = if like.per_pixel { samples / 2 } else { even_indices(first_sample, samples) };
         acc.per_pixel = like.per_pixel;
         acc.rates = like.rates.clone();
+        acc.check_range()?;
         Ok(acc)
     }
 
@@ -181,7 +208,7 @@ pub fn render(
         };
         if let Some(state) = adaptive.as_mut() {
             if state.pilot_done() && acc.rates.is_empty() {
-                acc = gpu.read(&acc, run.samples)?;
+                acc = gpu.read(&acc, run.samples, settings.first_sample)?;
                 acc.rates = block_rates(&acc, grid);
             }
             let next = state.next_batch(&acc.rates, batch, stop.spp.map(|n| n * pixels));
@@ -195,8 +222,8 @@ pub fn render(
             state.advance(&next);
             run.samples = state.total() / pixels;
         } else {
-            let count = uniform_batch(run.samples, batch, &stop)?;
-            dispatch(run.samples as u32, count as u32)?;
+            let count = uniform_batch(settings.first_sample + run.samples, batch, &stop, run.samples)?;
+            dispatch((settings.first_sample + run.samples) as u32, count as u32)?;
             run.samples += count;
         }
         run.last_batch_s = t_batch.elapsed().as_secs_f64();
@@ -204,7 +231,7 @@ pub fn render(
         let want_estimate = stop.target_relmse.is_some() || hooks.checkpoint.is_some() || hooks.progress.is_some();
         let interval = ESTIMATE_INTERVAL_S.max(read_s / ESTIMATE_TIME_SHARE);
         if want_estimate && now.duration_since(last_estimate).as_secs_f64() >= interval {
-            acc = gpu.read(&acc, run.samples)?;
+            acc = gpu.read(&acc, run.samples, settings.first_sample)?;
             run.relmse = acc.estimate_relmse();
             if hooks.progress.is_some() {
                 let rays = gpu.rays_traced(pixels as usize)?;
@@ -215,14 +242,14 @@ pub fn render(
         }
         if let Some(hook) = hooks.snapshot.as_mut() {
             if now.duration_since(last_snapshot).as_secs_f64() >= hooks.snapshot_interval_s {
-                acc = gpu.read(&acc, run.samples)?;
+                acc = gpu.read(&acc, run.samples, settings.first_sample)?;
                 hook(&acc)?;
                 last_snapshot = now;
             }
         }
         if let Some(hook) = hooks.checkpoint.as_mut() {
             if now.duration_since(last_checkpoint).as_secs_f64() >= hooks.checkpoint_interval_s {
-                acc = gpu.read(&acc, run.samples)?;
+                acc = gpu.read(&acc, run.samples, settings.first_sample)?;
                 hook(&acc)?;
                 last_checkpoint = now;
             }
@@ -241,7 +268,7 @@ pub fn render(
             });
         }
     }
-    acc = gpu.read(&acc, run.samples)?;
+    acc = gpu.read(&acc, run.samples, settings.first_sample)?;
     if let Some(hook) = hooks.checkpoint.as_mut() {
         hook(&acc)?;
     }

@@ -6,10 +6,11 @@ use super::adaptive::{round_counts, BlockGrid, PILOT_SPP};
 use super::Stop;
 use anyhow::{bail, Result};
 
-/// A uniform run's next batch: `batch` samples per pixel, or what is left of `stop.spp`.
-pub fn uniform_batch(samples: u64, batch: u64, stop: &Stop) -> Result<u64> {
-    let count = stop.spp.map_or(batch, |n| batch.min(n - samples));
-    if samples + count > u32::MAX as u64 {
+/// A uniform run's next batch: `batch` samples per pixel, or what is left of `stop.spp`, from
+/// sample index `next` on, `taken` samples into the run.
+pub fn uniform_batch(next: u64, batch: u64, stop: &Stop, taken: u64) -> Result<u64> {
+    let count = stop.spp.map_or(batch, |n| batch.min(n.saturating_sub(taken)));
+    if next + count > u32::MAX as u64 {
         bail!("sample index past 2^32");
     }
     Ok(count)
