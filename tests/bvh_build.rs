@@ -672,3 +672,22 @@ fn shared_report_build_times_on_large_scenes() {
         }
     }
 }
+
+/// The binned SAH build on several threads forks subtrees of at least PARALLEL_GRAIN
+/// primitives to other workers; the tree must be the one the single-threaded build makes,
+/// node for node and primitive for primitive, whatever the thread count.
+#[test]
+fn parallel_binned_sah_build_is_the_single_threaded_tree() {
+    use vkrt::bvh::build::binned_sah::PARALLEL_GRAIN;
+    // Over six grains, with clusters: SAH splits uneven enough that forks nest unevenly.
+    let tris = random_soup(6 * PARALLEL_GRAIN + 123, 42);
+    let (boxes, centroids) = tri_boxes(&tris);
+    let one = build(BuilderKind::Sah, &boxes, &centroids, &BuildConfig { threads: 1, ..Default::default() });
+    validate(&one, &boxes).expect("single-threaded tree");
+    for threads in [2, 3, 8] {
+        let many = build(BuilderKind::Sah, &boxes, &centroids, &BuildConfig { threads, ..Default::default() });
+        assert_eq!(many.nodes.len(), one.nodes.len(), "{threads} threads: node count");
+        assert!(many.nodes == one.nodes, "{threads} threads: the nodes differ");
+        assert!(many.prim_indices == one.prim_indices, "{threads} threads: the primitive order differs");
+    }
+}

@@ -82,11 +82,24 @@ pub struct BuildConfig {
     pub traversal_cost: f32,
     /// SAH cost of one triangle test (default 1.0).
     pub intersection_cost: f32,
+    /// Threads the binned SAH build may use: 0 (default) for every core, 1 for the caller's
+    /// thread alone. The tree does not depend on it; the other builders use one thread.
+    pub threads: usize,
 }
 
 impl Default for BuildConfig {
     fn default() -> Self {
-        Self { max_leaf_size: 4, sah_bins: 16, traversal_cost: 1.0, intersection_cost: 1.0 }
+        Self { max_leaf_size: 4, sah_bins: 16, traversal_cost: 1.0, intersection_cost: 1.0, threads: 0 }
+    }
+}
+
+impl BuildConfig {
+    /// `threads`, with 0 read as the machine's cores.
+    pub fn thread_count(&self) -> usize {
+        match self.threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            t => t,
+        }
     }
 }
 

@@ -500,10 +500,15 @@ fn report(
     eprintln!("camera: {}", camera_flags(&camera_numbers(&scene.camera)));
     eprintln!("device: {} ({})", device.name, device.driver_info);
     eprintln!(
-        "load {:.3} s, BVH build {:.3} s ({} nodes), upload {:.3} s",
+        "load {:.3} s, BVH build {:.3} s (boxes {:.3}, tree {:.3} on {} threads, layout {:.3}; {} nodes), shading arrays {:.3} s, upload {:.3} s",
         load_s,
-        prepared.build_seconds,
+        prepared.times.bvh(),
+        prepared.times.boxes,
+        prepared.times.tree,
+        crate::bvh::BuildConfig::default().thread_count(),
+        prepared.times.flatten,
         prepared.flat.node_count(),
+        prepared.times.shading,
         upload_s
     );
     if !prepared.atlas.table.is_empty() {

@@ -83,6 +83,26 @@ impl SceneInfo {
     }
 }
 
+/// Seconds each step of the prepare stage took (`vkrt render --verbose` prints them).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PrepareTimes {
+    /// Triangle boxes and centroids, the builder's input.
+    pub boxes: f64,
+    /// The BVH builder.
+    pub tree: f64,
+    /// Laying the tree out for the GPU (`accel::flatten`).
+    pub flatten: f64,
+    /// Shading arrays, light table and texture atlas.
+    pub shading: f64,
+}
+
+impl PrepareTimes {
+    /// The BVH's part: boxes, tree and layout.
+    pub fn bvh(&self) -> f64 {
+        self.boxes + self.tree + self.flatten
+    }
+}
+
 /// A scene prepared for the GPU, on the CPU side.
 #[derive(Debug)]
 pub struct PreparedScene {
@@ -91,28 +111,34 @@ pub struct PreparedScene {
     pub atlas: TextureAtlas,
     pub lights: LightTable,
     pub info: SceneInfo,
-    /// Seconds the BVH build and layout took.
-    pub build_seconds: f64,
+    pub times: PrepareTimes,
 }
 
 impl PreparedScene {
     pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
-        let (flat, build_seconds) = build_bvh(scene, options)?;
+        let (flat, mut times) = build_bvh(scene, options)?;
+        let start = std::time::Instant::now();
         let info = SceneInfo::of(scene);
         let buffers = SceneBuffers::new(scene);
         let lights = LightTable::new(&buffers, info.radius);
         let atlas = TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES);
-        Ok(Self { flat, buffers, atlas, lights, info, build_seconds })
+        times.shading = start.elapsed().as_secs_f64();
+        Ok(Self { flat, buffers, atlas, lights, info, times })
     }
 }
 
 /// Builds the scene's BVH with `options.builder` and lays it out as `options.layout`: all a
-/// batch query needs. Also returns the seconds it took.
-pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, f64)> {
-    let start = std::time::Instant::now();
+/// batch query needs. Also returns the seconds its steps took (`shading` left 0).
+pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
+    let clock = std::time::Instant::now();
+    let lap = || clock.elapsed().as_secs_f64();
     let (boxes, centroids) = crate::scene::triangle_boxes(&scene.triangles);
+    let t_boxes = lap();
     let tree = bvh::build(options.builder, &boxes, &centroids, &options.build);
+    drop((boxes, centroids));
+    let t_tree = lap();
     let flat = accel::flatten(&tree, &scene.triangles, options.layout)
         .with_context(|| format!("flattening the BVH as {}", options.layout.name()))?;
-    Ok((flat, start.elapsed().as_secs_f64()))
+    let t_flat = lap();
+    Ok((flat, PrepareTimes { boxes: t_boxes, tree: t_tree - t_boxes, flatten: t_flat - t_tree, shading: 0.0 }))
 }
