@@ -793,3 +793,60 @@ fn random_soup_is_deterministic_and_clean() {
     assert!(q.iter().all(|t| t.cross().normalize() == Vec3::Z));
     assert_eq!(q[0].area() + q[1].area(), 1.0);
 }
+
+/// A file big enough to be parsed in many chunks at once: faces with negative indices that
+/// reach back across chunk ends, `usemtl` lines in every chunk, quads fanned into triangles.
+/// Every triangle must come out in file order with the positions and the material the file
+/// gives it, and the first error in line order must win whichever chunk holds it.
+#[test]
+fn obj_files_parsed_in_chunks_keep_order_indices_materials_and_the_first_error() {
+    use std::fmt::Write as _;
+    let quads = 120_000; // ~6 MB: more than one chunk per core
+    let mut obj = String::from("mtllib m.mtl\n");
+    let mut expected = Vec::new();
+    for q in 0..quads {
+        let (x, y) = ((q % 400) as f32, (q / 400) as f32);
+        let corners = [(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)];
+        for (cx, cy) in corners {
+            writeln!(obj, "v {cx} {cy} {}", q % 7).unwrap();
+        }
+        if q % 1000 == 0 {
+            // Every 1000 quads the material changes: red, blue, red, ... and once an unknown
+            // name, which falls back to the default material.
+            let name = match (q / 1000) % 3 { 0 => "red", 1 => "blue", _ => "nope" };
+            writeln!(obj, "usemtl {name}").unwrap();
+        }
+        // Half the faces count back, half use absolute indices.
+        if q % 2 == 0 {
+            obj.push_str("f -4 -3 -2 -1\n");
+        } else {
+            let b = 4 * q + 1;
+            writeln!(obj, "f {} {} {} {}", b, b + 1, b + 2, b + 3).unwrap();
+        }
+        let material = match (q / 1000) % 3 { 0 => "red", 1 => "blue", _ => "default" };
+        let p = corners.map(|(cx, cy)| Vec3::new(cx, cy, (q % 7) as f32));
+        expected.push(([p[0], p[1], p[2]], material));
+        expected.push(([p[0], p[2], p[3]], material));
+    }
+    let mtl = b"newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n";
+    let path = write_files("chunked", &[("big.obj", obj.as_bytes()), ("m.mtl", mtl)]);
+    let mesh = vkrt::scene::obj::load_obj_meshes(&path, None).unwrap();
+    assert_eq!(mesh.triangles.len(), expected.len());
+    for (i, (t, (p, material))) in mesh.triangles.iter().zip(&expected).enumerate() {
+        assert_eq!(t.p, *p, "triangle {i}");
+        let name = &mesh.materials[t.material as usize].name;
+        let name = if name.is_empty() || name == "default" { "default" } else { name.as_str() };
+        assert_eq!(name, *material, "triangle {i}'s material");
+    }
+
+    // Two errors in different chunks: the earlier line is reported, then the later alone.
+    let lines: Vec<&str> = obj.lines().collect();
+    let (early, late) = (lines.len() / 5, lines.len() * 4 / 5);
+    let mut bad: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    bad[late] = "v 1 2 x".into();
+    let path = write_files("chunked-late", &[("big.obj", bad.join("\n").as_bytes()), ("m.mtl", mtl)]);
+    assert_located(&path, &format!("line {}:", late + 1));
+    bad[early] = "f 1 2".into();
+    let path = write_files("chunked-both", &[("big.obj", bad.join("\n").as_bytes()), ("m.mtl", mtl)]);
+    assert_located(&path, &format!("line {}:", early + 1));
+}

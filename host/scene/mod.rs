@@ -12,6 +12,7 @@ pub mod load;
 pub mod material;
 pub mod material_textures;
 pub mod obj;
+pub mod obj_geometry;
 pub mod sky;
 pub mod texture;
 
