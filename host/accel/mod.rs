@@ -104,14 +104,21 @@ pub const MAX_FLAT_TRIANGLES: usize = 1 << (32 - LEAF_COUNT_BITS);
 
 /// Lays `bvh` (built over `tris`) out as `layout`.
 pub fn flatten(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind) -> anyhow::Result<FlatBvh> {
-    let triangles = leaf_order_triangles(bvh, tris)?;
-    let nodes: Box<dyn NodeArray> = match layout {
-        LayoutKind::Threaded => Box::new(threaded::Threaded(threaded::flatten(bvh))),
-        LayoutKind::MultiOrder => Box::new(multi_order::MultiOrder(multi_order::flatten(bvh))),
-        LayoutKind::ParentLink => Box::new(parent_link::ParentLink(parent_link::flatten(bvh)?)),
-        LayoutKind::Compact => Box::new(compact::Compact::from_threaded(&threaded::flatten(bvh))?),
-        LayoutKind::Wide => Box::new(wide::Wide(wide::flatten(bvh)?)),
-    };
+    // The triangles in leaf order and the node array do not depend on each other: one core
+    // gathers the triangles (on every core that is free) while another lays out the nodes.
+    let (triangles, nodes) = rayon::join(
+        || leaf_order_triangles(bvh, tris),
+        || -> anyhow::Result<Box<dyn NodeArray>> {
+            Ok(match layout {
+                LayoutKind::Threaded => Box::new(threaded::Threaded(threaded::flatten(bvh))),
+                LayoutKind::MultiOrder => Box::new(multi_order::MultiOrder(multi_order::flatten(bvh))),
+                LayoutKind::ParentLink => Box::new(parent_link::ParentLink(parent_link::flatten(bvh)?)),
+                LayoutKind::Compact => Box::new(compact::Compact::from_threaded(&threaded::flatten(bvh))?),
+                LayoutKind::Wide => Box::new(wide::Wide(wide::flatten(bvh)?)),
+            })
+        },
+    );
+    let (triangles, nodes) = (triangles?, nodes?);
     debug_assert_eq!(nodes.kind(), layout);
     Ok(FlatBvh { nodes, triangles })
 }
@@ -121,8 +128,9 @@ fn leaf_order_triangles(bvh: &Bvh, tris: &[Triangle]) -> anyhow::Result<Vec<GpuT
     if tris.len() > MAX_FLAT_TRIANGLES {
         anyhow::bail!("scene has {} triangles; the flat layouts address at most {MAX_FLAT_TRIANGLES}", tris.len());
     }
+    use rayon::prelude::*;
     bvh.prim_indices
-        .iter()
+        .par_iter()
         .map(|&prim| {
             let t = tris.get(prim as usize).with_context(|| format!("BVH names primitive {prim} of {} triangles", tris.len()))?;
             Ok(GpuTriangle { v0: t.p[0].to_array(), prim, v1: t.p[1].to_array(), _pad0: 0, v2: t.p[2].to_array(), _pad1: 0 })

@@ -17,8 +17,9 @@ use crate::gpu::DeviceInfo;
 use crate::integrator::path::checkpoint::{camera_flags, Checkpoint, Identity};
 use crate::integrator::{whitted, Image, RenderSettings};
 use crate::output::display::{Display, Exposure, Tonemap};
-use crate::prepare::{Features, GpuScene, PrepareOptions, PreparedScene};
-use crate::scene::{Camera, Scene};
+use crate::prepare::cache::{prepare_scene, Cache, CacheOutcome, Prepared};
+use crate::prepare::{Features, GpuScene, PrepareOptions};
+use crate::scene::{Camera, SceneSummary};
 use crate::{output, scene};
 use anyhow::{bail, Context as _, Result};
 use clap::{Args, ValueEnum};
@@ -99,10 +100,32 @@ pub struct RenderArgs {
     /// (same image, slower; for comparisons and benchmarks).
     #[arg(long)]
     pub all_features: bool,
+    /// Keep prepared scenes (BVH, shading arrays, textures) in this folder and reuse them
+    /// while the scene's files and the build settings are unchanged [default: the user's cache
+    /// folder, $XDG_CACHE_HOME/vkrt or ~/.cache/vkrt, for scenes that take 0.5 s or more to
+    /// prepare, at most 16 GiB]. With a folder given, every scene is kept and none evicted.
+    #[arg(long, value_name = "DIR", env = "VKRT_CACHE")]
+    pub cache: Option<PathBuf>,
+    /// Prepare the scene from its files, and keep nothing.
+    #[arg(long, conflicts_with = "cache")]
+    pub no_cache: bool,
     #[command(flatten)]
     pub device: DeviceArgs,
     #[command(flatten)]
     pub path: PathArgs,
+}
+
+impl RenderArgs {
+    /// The prepared-scene cache this run uses, if any.
+    fn scene_cache(&self) -> Option<Cache> {
+        if self.no_cache {
+            return None;
+        }
+        match &self.cache {
+            Some(dir) => Some(Cache::at(dir.clone())),
+            None => Cache::default_for_user(),
+        }
+    }
 }
 
 /// Which camera renders: the scene file's (or its N-th), with any of its parts replaced.
@@ -159,7 +182,7 @@ fn camera_from(n: &[f32; 10]) -> Camera {
 impl CameraArgs {
     /// The camera to render with: `base` (the scene's, or a resumed run's), or the scene file's
     /// camera `--camera N`, with the parts given on the command line replaced.
-    fn choose(&self, scene: &Scene, base: Camera) -> Result<Camera> {
+    fn choose(&self, scene: &SceneSummary, base: Camera) -> Result<Camera> {
         let mut cam = match self.camera {
             Some(n) => *scene.cameras.get(n as usize).with_context(|| {
                 let count = scene.cameras.len();
@@ -350,9 +373,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let ctx = args.device.context()?;
     check_image_size(&ctx.info, width, height, integrator)?;
 
+    let options = PrepareOptions { builder, layout, build: BuildConfig::default() };
+    let cache = args.scene_cache();
     let t0 = Instant::now();
-    let mut scene = scene::load_scene(&scene_path)?;
-    for w in &scene.stats.warnings {
+    let (prepared, cache_outcome, parse_s) = prepare_scene(&scene_path, &options, cache.as_ref(), &mut |w| say.line(&format!("warning: {w}")))?;
+    let prepare_s = t0.elapsed().as_secs_f64();
+    let mut scene = prepared.summary().clone();
+    for w in scene.stats.warnings.iter().chain(prepared.downsampled()) {
         say.line(&format!("warning: {w}"));
     }
     // The sky and the camera: the command line's, else a resumed run's, else the scene's.
@@ -366,17 +393,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         scene.sky = scene::Sky::parse_constant(&sky)?;
     }
     scene.camera = args.camera.choose(&scene, stored_camera.unwrap_or(scene.camera))?;
-    let load_s = t0.elapsed().as_secs_f64();
-    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder, layout, build: BuildConfig::default() })?;
-    for w in &prepared.atlas.downsampled {
-        say.line(&format!("warning: {w}"));
-    }
+    let info = prepared.info().with_view(&scene.camera, &scene.sky);
     let t1 = Instant::now();
-    let gpu = GpuScene::upload(&ctx, &prepared)?;
+    let gpu = GpuScene::upload_arrays(&ctx, &prepared.arrays()?, &info)?;
     let upload_s = t1.elapsed().as_secs_f64();
     if args.verbose {
-        report(args, &scene_path, &scene, &prepared, &gpu, &ctx.info, (load_s, upload_s), integrator);
+        report(args, &scene_path, &scene, &prepared, &gpu, &ctx.info, (parse_s, prepare_s, upload_s), &cache_outcome, integrator);
     }
+    drop(prepared);
 
     let mut progress = Progress::new("rendering", args.quiet);
     let write_outputs = |image: &Image| -> Result<()> {
@@ -481,46 +505,58 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 fn report(
     args: &RenderArgs,
     scene_path: &Path,
-    scene: &Scene,
-    prepared: &PreparedScene,
+    scene: &SceneSummary,
+    prepared: &Prepared,
     gpu: &GpuScene,
     device: &DeviceInfo,
-    (load_s, upload_s): (f64, f64),
+    (parse_s, prepare_s, upload_s): (f64, f64, f64),
+    cache: &CacheOutcome,
     integrator: IntegratorKind,
 ) {
     eprintln!(
         "scene {}: {} triangles, {} materials, {} lights, {} emissive triangles, {} dropped as degenerate",
         scene_path.display(),
-        scene.triangles.len(),
-        scene.materials.len(),
-        scene.lights.len(),
+        scene.triangles,
+        scene.materials,
+        scene.lights,
         gpu.emitter_count,
         scene.stats.dropped_degenerate
     );
     eprintln!("camera: {}", camera_flags(&camera_numbers(&scene.camera)));
     eprintln!("device: {} ({})", device.name, device.driver_info);
-    eprintln!(
-        "load {:.3} s, BVH build {:.3} s (boxes {:.3}, tree {:.3} on {} threads, layout {:.3}; {} nodes), shading arrays {:.3} s, upload {:.3} s",
-        load_s,
-        prepared.times.bvh(),
-        prepared.times.boxes,
-        prepared.times.tree,
-        crate::bvh::BuildConfig::default().thread_count(),
-        prepared.times.flatten,
-        prepared.flat.node_count(),
-        prepared.times.shading,
-        upload_s
-    );
-    if !prepared.atlas.table.is_empty() {
-        eprintln!(
-            "textures: {} ({} MiB of texels)",
-            prepared.atlas.table.len(),
-            std::mem::size_of_val(prepared.atlas.texels.as_slice()) >> 20
-        );
+    let nodes = gpu.bvh.push.node_count;
+    match cache {
+        CacheOutcome::Hit { entry, seconds } => {
+            eprintln!("load {seconds:.3} s from the prepared-scene cache ({nodes} nodes; {}), upload {upload_s:.3} s", entry.display());
+        }
+        _ => {
+            let t = prepared.times();
+            eprintln!(
+                "load {parse_s:.3} s, BVH build {:.3} s (boxes {:.3}, tree {:.3} on {} threads, layout {:.3}; {nodes} nodes), shading arrays {:.3} s, upload {upload_s:.3} s",
+                t.bvh(),
+                t.boxes,
+                t.tree,
+                BuildConfig::default().thread_count(),
+                t.flatten,
+                t.shading,
+            );
+            match cache {
+                CacheOutcome::Stored { entry, seconds } => {
+                    eprintln!("prepared-scene cache: stored {} in {seconds:.3} s ({prepare_s:.3} s to load and prepare)", entry.display())
+                }
+                CacheOutcome::NotStored { why } => eprintln!("prepared-scene cache: not stored ({why})"),
+                _ => eprintln!("prepared-scene cache: off"),
+            }
+        }
     }
-    let features = if args.all_features { Features::all() } else { prepared.info.features.clone() };
+    if let Ok(a) = prepared.arrays().map(|a| (a.textures.len(), std::mem::size_of_val(a.texels))) {
+        if a.0 > 0 {
+            eprintln!("textures: {} ({} MiB of texels)", a.0, a.1 >> 20);
+        }
+    }
+    let features = if args.all_features { Features::all() } else { gpu.info.features.clone() };
     let how = if args.all_features { "unspecialised, --all-features" } else { "specialised to the scene" };
     let name = integrator.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
-    eprintln!("shader variant: {name} {} ({how}): {}", prepared.flat.layout().name(), features.variant_name());
+    eprintln!("shader variant: {name} {} ({how}): {}", gpu.bvh.layout.name(), features.variant_name());
     eprint!("{}", features.report());
 }

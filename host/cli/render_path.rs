@@ -13,7 +13,7 @@ use crate::integrator::path::shard::{Shard, ShardSet};
 use crate::integrator::path::{self, Accumulation, Hooks, PathProgress, PathSettings, SamplerKind, Stop};
 use crate::integrator::{Image, RenderSettings, RenderStats};
 use crate::prepare::GpuScene;
-use crate::scene::Scene;
+use crate::scene::SceneSummary;
 use anyhow::{bail, Context as _, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -108,7 +108,7 @@ impl PathArgs {
 /// A path-traced render, resolved: the command line's values, or a resumed checkpoint's.
 pub struct PathRun<'a> {
     /// The scene as loaded: its input files make the run's identity.
-    pub scene: &'a Scene,
+    pub scene: &'a SceneSummary,
     /// The scene file's absolute path (what a checkpoint records).
     pub scene_path: String,
     /// The `--sky` override, as given ("" for the scene's own sky).

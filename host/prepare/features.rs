@@ -74,14 +74,19 @@ impl Features {
             (POINT, count_lights(&|l| matches!(l, Light::Point { .. }), "point lights")),
             (DIRECTIONAL, count_lights(&|l| matches!(l, Light::Directional { .. }), "directional lights")),
             (SPOT, count_lights(&|l| matches!(l, Light::Spot { .. }), "spot lights")),
-            (SKY, match scene.sky {
-                Sky::None => (false, "no sky".to_string()),
-                Sky::Constant(c) if c.max_element() <= 0.0 => (false, "black sky".to_string()),
-                Sky::Constant(c) => (true, format!("constant sky {c}")),
-                Sky::CubeMap { .. } => (true, "cube-map sky box".to_string()),
-            }),
+            (SKY, sky_use(&scene.sky)),
         ];
         Self { entries: entries.into_iter().map(|(f, (on, w))| (f, on, w)).collect() }
+    }
+
+    /// The same with the sky feature worked out for `sky` instead (`--sky` replaces a scene's
+    /// sky after it was prepared, or loaded from the cache).
+    pub fn with_sky(mut self, sky: &Sky) -> Self {
+        let (on, why) = sky_use(sky);
+        for entry in self.entries.iter_mut().filter(|e| e.0 == SKY) {
+            (entry.1, entry.2) = (on, why.clone());
+        }
+        self
     }
 
     pub fn has(&self, f: Feature) -> bool {
@@ -102,5 +107,15 @@ impl Features {
     /// One line per feature: on/off and why, for `--verbose`.
     pub fn report(&self) -> String {
         self.entries.iter().map(|(f, on, w)| format!("  {:<20} {:<3} ({w})\n", f.name, if *on { "on" } else { "off" })).collect()
+    }
+}
+
+/// Whether a sky needs the sky code, and why.
+fn sky_use(sky: &Sky) -> (bool, String) {
+    match sky {
+        Sky::None => (false, "no sky".to_string()),
+        Sky::Constant(c) if c.max_element() <= 0.0 => (false, "black sky".to_string()),
+        Sky::Constant(c) => (true, format!("constant sky {c}")),
+        Sky::CubeMap { .. } => (true, "cube-map sky box".to_string()),
     }
 }

@@ -3,6 +3,7 @@
 //! features, bounds and camera frame are worked out ([`PreparedScene::new`]); [`upload`] puts
 //! it on the device. Integrators and batch queries take only the uploaded result.
 
+pub mod cache;
 pub mod features;
 pub mod light_table;
 pub mod scene_buffers;
@@ -16,13 +17,21 @@ use crate::accel::{self, FlatBvh, LayoutKind};
 use crate::bvh::{self, BuildConfig, BuilderKind};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::TEXTURE_NONE;
+use crate::gpu_abi::{GpuEmitter, GpuLight, GpuLightPick, GpuMaterial, GpuPush, GpuShading, GpuTexture, GpuTriangle, GpuUv};
 use crate::scene::camera::CameraFrame;
-use crate::scene::{Scene, Sky};
+use crate::scene::{Camera, Scene, Sky};
 use anyhow::{Context as _, Result};
 use glam::Vec3;
 use light_table::LightTable;
 use scene_buffers::SceneBuffers;
 use texture_atlas::{TextureAtlas, TEXEL_BUDGET_BYTES};
+
+/// The content hash (xxh3-64) of a file a scene was read from: how checkpoints and the
+/// prepared-scene cache know that a scene's files are the ones they were made from.
+pub fn content_hash(path: &std::path::Path) -> Result<u64> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {} to hash it", path.display()))?;
+    Ok(xxhash_rust::xxh3::xxh3_64(&bytes))
+}
 
 /// How to build and lay out the BVH.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -59,22 +68,32 @@ pub struct SceneInfo {
 
 impl SceneInfo {
     pub fn of(scene: &Scene) -> Self {
-        let bounds = scene.bounds();
-        let (sky_color, sky_texture) = match scene.sky {
+        Self::new(&scene.camera, scene.ambient, &scene.sky, scene.bounds(), Features::of(scene))
+    }
+
+    /// From the parts a scene's view is made of: `features` are the scene's, with the sky
+    /// feature set for `sky`.
+    pub fn new(camera: &Camera, ambient: Vec3, sky: &Sky, bounds: Aabb, features: Features) -> Self {
+        let (sky_color, sky_texture) = match *sky {
             Sky::None => ([0.0; 3], TEXTURE_NONE),
             Sky::Constant(c) => (c.to_array(), TEXTURE_NONE),
             Sky::CubeMap { first_texture, scale } => (scale.to_array(), first_texture),
         };
         Self {
-            camera: scene.camera.frame().map_err(|e| format!("{e:#}")),
-            ambient: scene.ambient,
+            camera: camera.frame().map_err(|e| format!("{e:#}")),
+            ambient,
             sky_color,
             sky_texture,
             bounds,
             scale: if bounds.is_empty() { 1.0 } else { bounds.min.abs().max(bounds.max.abs()).max_element().max(f32::MIN_POSITIVE) },
             radius: if bounds.is_empty() { 0.0 } else { 0.5 * bounds.extent().length() },
-            features: Features::of(scene),
+            features: features.with_sky(sky),
         }
+    }
+
+    /// The same scene seen from `camera` under `sky`.
+    pub fn with_view(&self, camera: &Camera, sky: &Sky) -> Self {
+        Self::new(camera, self.ambient, sky, self.bounds, self.features.clone())
     }
 
     /// The camera frame, or an error saying why there is none.
@@ -114,7 +133,48 @@ pub struct PreparedScene {
     pub times: PrepareTimes,
 }
 
+/// The arrays of a prepared scene as the device takes them, borrowed from a [`PreparedScene`]
+/// or from a mapped cache file (`cache`).
+#[derive(Debug, Clone, Copy)]
+pub struct SceneArrays<'a> {
+    pub layout: LayoutKind,
+    /// The layout's node array (`NodeArray::bytes`).
+    pub nodes: &'a [u8],
+    /// The BVH's push constants (`FlatBvh::push`: node count, layout data).
+    pub push: GpuPush,
+    pub triangles: &'a [GpuTriangle],
+    pub shading: &'a [GpuShading],
+    pub materials: &'a [GpuMaterial],
+    pub lights: &'a [GpuLight],
+    pub emitters: &'a [GpuEmitter],
+    pub uvs: &'a [GpuUv],
+    pub textures: &'a [GpuTexture],
+    pub texels: &'a [u32],
+    pub picks: &'a [GpuLightPick],
+    /// The light table's total weight.
+    pub total_weight: f64,
+}
+
 impl PreparedScene {
+    /// The arrays, borrowed.
+    pub fn arrays(&self) -> SceneArrays<'_> {
+        SceneArrays {
+            layout: self.flat.layout(),
+            nodes: self.flat.nodes.bytes(),
+            push: self.flat.push(),
+            triangles: &self.flat.triangles,
+            shading: &self.buffers.shading,
+            materials: &self.buffers.materials,
+            lights: &self.buffers.lights,
+            emitters: &self.buffers.emitters,
+            uvs: &self.buffers.uvs,
+            textures: &self.atlas.table,
+            texels: &self.atlas.texels,
+            picks: &self.lights.picks,
+            total_weight: self.lights.total_weight,
+        }
+    }
+
     pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
         let (flat, mut times) = build_bvh(scene, options)?;
         let start = std::time::Instant::now();

@@ -4,11 +4,11 @@
 //! and material, a sampled light), so all are texel buffers; shaders/include/scene_bindings.glsl
 //! says why.
 
-use super::{PreparedScene, SceneInfo};
+use super::{PreparedScene, SceneArrays, SceneInfo};
 use crate::accel::{FlatBvh, LayoutKind};
 use crate::gpu::{Context, TexelArray, TexelFormat};
 use crate::gpu_abi::constants::*;
-use crate::gpu_abi::GpuPush;
+use crate::gpu_abi::{GpuPush, GpuTriangle};
 use crate::pipeline::ComputePipeline;
 use anyhow::{Context as _, Result};
 
@@ -28,12 +28,18 @@ impl<'a> GpuBvh<'a> {
     /// Uploads `flat`; fails, naming the array, if one holds more texels than the device lets a
     /// texel buffer address.
     pub fn upload(ctx: &'a Context, flat: &FlatBvh) -> Result<Self> {
+        Self::upload_arrays(ctx, flat.layout(), flat.nodes.bytes(), &flat.triangles, flat.push())
+    }
+
+    /// The same from the arrays themselves (`layout`'s node bytes, the triangles in leaf order
+    /// and the BVH's push constants), wherever they are: a `FlatBvh`, or a mapped cache file.
+    pub fn upload_arrays(ctx: &'a Context, layout: LayoutKind, nodes: &[u8], triangles: &[GpuTriangle], push: GpuPush) -> Result<Self> {
         Ok(Self {
-            nodes: TexelArray::with_data(ctx, "BVH nodes", flat.nodes.bytes(), TexelFormat::Rgba32Uint)?,
-            triangles: TexelArray::with_data(ctx, "triangles", &flat.triangles, TexelFormat::Rgba32Uint)?,
-            triangle_count: flat.triangles.len() as u32,
-            layout: flat.layout(),
-            push: flat.push(),
+            nodes: TexelArray::with_data(ctx, "BVH nodes", nodes, TexelFormat::Rgba32Uint)?,
+            triangles: TexelArray::with_data(ctx, "triangles", triangles, TexelFormat::Rgba32Uint)?,
+            triangle_count: triangles.len() as u32,
+            layout,
+            push,
         })
     }
 
@@ -69,25 +75,29 @@ impl<'a> GpuScene<'a> {
     /// Uploads `prepared`; fails, naming the array, if one holds more texels than the device
     /// lets a texel buffer address.
     pub fn upload(ctx: &'a Context, prepared: &PreparedScene) -> Result<Self> {
+        Self::upload_arrays(ctx, &prepared.arrays(), &prepared.info)
+    }
+
+    /// The same from the arrays, wherever they are (a `PreparedScene`, or a mapped cache file),
+    /// seen as `info` says.
+    pub fn upload_arrays(ctx: &'a Context, a: &SceneArrays, info: &SceneInfo) -> Result<Self> {
         use TexelFormat::{R32Uint, Rgba32Uint};
-        let b = &prepared.buffers;
-        let table = &prepared.lights;
         Ok(Self {
-            bvh: GpuBvh::upload(ctx, &prepared.flat)?,
-            shading: TexelArray::with_data(ctx, "shading data", &b.shading, Rgba32Uint)?,
-            materials: TexelArray::with_data(ctx, "materials", &b.materials, Rgba32Uint)?,
-            lights: TexelArray::with_data(ctx, "lights", &b.lights, Rgba32Uint)?,
-            emitters: TexelArray::with_data(ctx, "emitters", &b.emitters, Rgba32Uint)?,
-            textures: TexelArray::with_data(ctx, "texture table", &prepared.atlas.table, Rgba32Uint)?,
+            bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?,
+            shading: TexelArray::with_data(ctx, "shading data", a.shading, Rgba32Uint)?,
+            materials: TexelArray::with_data(ctx, "materials", a.materials, Rgba32Uint)?,
+            lights: TexelArray::with_data(ctx, "lights", a.lights, Rgba32Uint)?,
+            emitters: TexelArray::with_data(ctx, "emitters", a.emitters, Rgba32Uint)?,
+            textures: TexelArray::with_data(ctx, "texture table", a.textures, Rgba32Uint)?,
             // One packed RGBA8 texel per R32UI texel, decoded in the shader.
-            texels: TexelArray::with_data(ctx, "texels", &prepared.atlas.texels, R32Uint)?,
-            uvs: TexelArray::with_data(ctx, "texture coordinates", &b.uvs, Rgba32Uint)?,
-            light_picks: TexelArray::with_data(ctx, "light picks", &table.picks, Rgba32Uint)?,
-            light_count: b.lights.len() as u32,
-            emitter_count: b.emitters.len() as u32,
-            pick_count: table.picks.len() as u32,
-            inv_total_weight: if table.total_weight > 0.0 { (1.0 / table.total_weight) as f32 } else { 0.0 },
-            info: prepared.info.clone(),
+            texels: TexelArray::with_data(ctx, "texels", a.texels, R32Uint)?,
+            uvs: TexelArray::with_data(ctx, "texture coordinates", a.uvs, Rgba32Uint)?,
+            light_picks: TexelArray::with_data(ctx, "light picks", a.picks, Rgba32Uint)?,
+            light_count: a.lights.len() as u32,
+            emitter_count: a.emitters.len() as u32,
+            pick_count: a.picks.len() as u32,
+            inv_total_weight: if a.total_weight > 0.0 { (1.0 / a.total_weight) as f32 } else { 0.0 },
+            info: info.clone(),
         })
     }
 

@@ -81,6 +81,20 @@ pub struct Scene {
     pub stats: LoadStats,
 }
 
+/// A scene without its triangles, materials and textures: what the command line still needs
+/// after the prepare stage (and all a prepared-scene cache entry keeps of the CPU scene).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneSummary {
+    pub camera: Camera,
+    pub cameras: Vec<Camera>,
+    pub ambient: Vec3,
+    pub sky: Sky,
+    pub stats: LoadStats,
+    pub triangles: usize,
+    pub materials: usize,
+    pub lights: usize,
+}
+
 /// What a loader did besides reading: dropped triangles, warnings, the files it read.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LoadStats {
@@ -121,6 +135,21 @@ impl Scene {
         b
     }
 
+    /// What is left of the scene once its arrays are prepared for the GPU: cameras, sky,
+    /// ambient light, counts and the loader's report.
+    pub fn summary(&self) -> SceneSummary {
+        SceneSummary {
+            camera: self.camera,
+            cameras: self.cameras.clone(),
+            ambient: self.ambient,
+            sky: self.sky,
+            stats: self.stats.clone(),
+            triangles: self.triangles.len(),
+            materials: self.materials.len(),
+            lights: self.lights.len(),
+        }
+    }
+
     /// Indices of triangles whose material emits light.
     pub fn emissive_triangles(&self) -> Vec<u32> {
         (0..self.triangles.len() as u32)
@@ -131,5 +160,6 @@ impl Scene {
 
 /// Boxes and centroids of triangles: the only input a BVH builder sees.
 pub fn triangle_boxes(tris: &[Triangle]) -> (Vec<Aabb>, Vec<Vec3>) {
-    tris.iter().map(|t| (t.bounds(), t.centroid())).unzip()
+    use rayon::prelude::*;
+    tris.par_iter().map(|t| (t.bounds(), t.centroid())).unzip()
 }

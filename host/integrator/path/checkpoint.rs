@@ -61,10 +61,7 @@ pub enum Identity {
 pub fn hash_inputs(paths: &[PathBuf]) -> Result<Vec<InputHash>> {
     paths
         .iter()
-        .map(|p| {
-            let bytes = std::fs::read(p).with_context(|| format!("reading {} to hash it", p.display()))?;
-            Ok(InputHash { path: p.display().to_string(), hash: xxhash_rust::xxh3::xxh3_64(&bytes) })
-        })
+        .map(|p| Ok(InputHash { path: p.display().to_string(), hash: crate::prepare::content_hash(p)? }))
         .collect()
 }
 

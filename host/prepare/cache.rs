@@ -1,0 +1,649 @@
+//! The prepared-scene cache: a scene's GPU arrays (BVH nodes in their layout, triangles,
+//! shading arrays, texture atlas, light table) and what the command line needs of the CPU
+//! scene (`SceneSummary`), stored in one file that a later run maps and uploads without
+//! parsing the scene or building its BVH.
+//!
+//! An entry's name is a hash of everything that shapes its contents apart from the input files'
+//! bytes: the cache format, the vkrt version, the scene file's absolute path, the builder, the
+//! layout and the build settings (`entry_key`). The entry then lists every file the loader read
+//! with its content hash (xxh3), and a load re-hashes them all: a changed mesh, material library
+//! or texture makes the entry stale. A stale, corrupt (checksum), truncated or foreign (magic,
+//! format, version) entry is never used: the scene is prepared again, with a warning, and the
+//! entry rewritten. Entries are written to a temporary file and renamed into place, so
+//! concurrent runs preparing the same scene (shards of one array job) each leave a whole entry
+//! and readers never see half of one; an entry is never changed in place, so a mapping stays
+//! valid while another run replaces or evicts the file.
+//!
+//! File layout (little-endian): a 64-byte header (magic, format, metadata length, checksum:
+//! xxh3-128 of everything after the header), the metadata (`Meta`), then the arrays, each at a
+//! 64-byte boundary so that a mapped file can be read as the arrays' types in place.
+
+use super::features::{self, Features};
+use super::{PrepareOptions, PrepareTimes, PreparedScene, SceneArrays, SceneInfo};
+use crate::accel::LayoutKind;
+use crate::geom::Aabb;
+use crate::gpu_abi::GpuPush;
+use crate::scene::{self, Camera, LoadStats, SceneSummary, Sky};
+use anyhow::{bail, Context as _, Result};
+use glam::Vec3;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use xxhash_rust::xxh3::{xxh3_128, Xxh3};
+
+/// Bumped whenever the file layout or the meaning of a stored array changes.
+pub const CACHE_FORMAT: u32 = 1;
+const MAGIC: &[u8; 8] = b"VKRTPREP";
+const HEADER_BYTES: usize = 64;
+/// Arrays start at multiples of this: every GPU struct's alignment divides it.
+const ARRAY_ALIGN: usize = 64;
+/// Entries are files `<key>.vkrtscene` in the cache folder.
+const EXTENSION: &str = "vkrtscene";
+
+/// In the default cache, scenes prepared faster than this are not stored: reading and checking
+/// an entry costs about as much, and the folder would fill with copies of small scenes. A
+/// folder given with `--cache` stores every scene.
+pub const DEFAULT_MIN_PREPARE_SECONDS: f64 = 0.5;
+/// The default cache keeps at most this many bytes of entries, evicting the least recently
+/// used ones (a 10M-triangle scene takes about 2 GiB).
+pub const DEFAULT_MAX_BYTES: u64 = 16 << 30;
+
+/// Where prepared scenes are kept, and which of them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cache {
+    pub dir: PathBuf,
+    /// Scenes whose preparation took less are not stored.
+    pub min_prepare_seconds: f64,
+    /// After a store, the least recently used entries are removed until the rest fit.
+    pub max_bytes: u64,
+}
+
+impl Cache {
+    /// `--cache DIR`: every scene is stored there, and nothing is evicted.
+    pub fn at(dir: PathBuf) -> Self {
+        Self { dir, min_prepare_seconds: 0.0, max_bytes: u64::MAX }
+    }
+
+    /// The user's cache folder (`$XDG_CACHE_HOME/vkrt`, else `~/.cache/vkrt`), or None when
+    /// neither variable is set.
+    pub fn default_for_user() -> Option<Self> {
+        let base = std::env::var_os("XDG_CACHE_HOME")
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").filter(|v| !v.is_empty()).map(|h| PathBuf::from(h).join(".cache")))?;
+        Some(Self { dir: base.join("vkrt"), min_prepare_seconds: DEFAULT_MIN_PREPARE_SECONDS, max_bytes: DEFAULT_MAX_BYTES })
+    }
+}
+
+/// A prepared scene, built now or mapped from the cache.
+pub enum Prepared {
+    Built { prepared: Box<PreparedScene>, summary: SceneSummary },
+    Cached(Box<CachedScene>),
+}
+
+/// Where a [`Prepared`] came from, for `--verbose`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CacheOutcome {
+    /// No cache (`--no-cache`, or no cache folder).
+    Off,
+    /// Mapped from this entry; seconds to map, check and read it.
+    Hit { entry: PathBuf, seconds: f64 },
+    /// Prepared now and stored in this entry (seconds to write it), or not stored (why).
+    Stored { entry: PathBuf, seconds: f64 },
+    NotStored { why: String },
+}
+
+impl Prepared {
+    pub fn summary(&self) -> &SceneSummary {
+        match self {
+            Prepared::Built { summary, .. } => summary,
+            Prepared::Cached(c) => &c.meta.summary,
+        }
+    }
+
+    /// The arrays to upload (a cached entry's were checked when it was opened).
+    pub fn arrays(&self) -> Result<SceneArrays<'_>> {
+        match self {
+            Prepared::Built { prepared, .. } => Ok(prepared.arrays()),
+            Prepared::Cached(c) => c.arrays(),
+        }
+    }
+
+    /// The scene seen from its own camera under its own sky (`SceneInfo::with_view` for others).
+    pub fn info(&self) -> SceneInfo {
+        match self {
+            Prepared::Built { prepared, .. } => prepared.info.clone(),
+            Prepared::Cached(c) => {
+                let s = &c.meta.summary;
+                SceneInfo::new(&s.camera, s.ambient, &s.sky, c.meta.bounds, c.meta.features.clone())
+            }
+        }
+    }
+
+    /// Warnings about textures halved to fit the atlas.
+    pub fn downsampled(&self) -> &[String] {
+        match self {
+            Prepared::Built { prepared, .. } => &prepared.atlas.downsampled,
+            Prepared::Cached(c) => &c.meta.downsampled,
+        }
+    }
+
+    /// The prepare stage's times (zero for a cached scene: nothing was built).
+    pub fn times(&self) -> PrepareTimes {
+        match self {
+            Prepared::Built { prepared, .. } => prepared.times,
+            Prepared::Cached(_) => PrepareTimes::default(),
+        }
+    }
+}
+
+/// Loads and prepares `scene_path` as `options` say, through `cache` if there is one: an
+/// entry that is whole and current is mapped; otherwise the scene is prepared and (if the
+/// cache takes it) stored. Problems with the cache itself are warnings (`warn`), never errors:
+/// the render goes on without it. Also returns the seconds spent loading the scene file.
+pub fn prepare_scene(scene_path: &Path, options: &PrepareOptions, cache: Option<&Cache>, warn: &mut dyn FnMut(String)) -> Result<(Prepared, CacheOutcome, f64)> {
+    let entry = match cache {
+        Some(c) => Some(c.dir.join(format!("{:032x}.{EXTENSION}", entry_key(scene_path, options)))),
+        None => None,
+    };
+    if let Some(entry) = &entry {
+        if entry.exists() {
+            let start = Instant::now();
+            match CachedScene::open(entry) {
+                Ok(scene) => {
+                    // The modification time orders entries for eviction: a hit keeps one.
+                    let _ = std::fs::File::options().append(true).open(entry).and_then(|f| f.set_modified(std::time::SystemTime::now()));
+                    let seconds = start.elapsed().as_secs_f64();
+                    return Ok((Prepared::Cached(Box::new(scene)), CacheOutcome::Hit { entry: entry.clone(), seconds }, 0.0));
+                }
+                Err(e) => warn(format!("prepared-scene cache: not using {}: {e:#}; preparing the scene again", entry.display())),
+            }
+        }
+    }
+    let start = Instant::now();
+    let scene = scene::load_scene(scene_path)?;
+    let load_seconds = start.elapsed().as_secs_f64();
+    let prepared = PreparedScene::new(&scene, options)?;
+    let summary = scene.summary();
+    drop(scene);
+    let (Some(cache), Some(entry)) = (cache, entry) else {
+        return Ok((Prepared::Built { prepared: Box::new(prepared), summary }, CacheOutcome::Off, load_seconds));
+    };
+    let spent = load_seconds + prepared.times.bvh() + prepared.times.shading;
+    let outcome = if spent < cache.min_prepare_seconds {
+        CacheOutcome::NotStored { why: format!("prepared in {spent:.2} s, under the {:.1} s worth caching", cache.min_prepare_seconds) }
+    } else {
+        let start = Instant::now();
+        match store(cache, &entry, &prepared, &summary) {
+            Ok(()) => CacheOutcome::Stored { entry, seconds: start.elapsed().as_secs_f64() },
+            Err(e) => {
+                warn(format!("prepared-scene cache: could not store {}: {e:#}", entry.display()));
+                CacheOutcome::NotStored { why: format!("{e:#}") }
+            }
+        }
+    };
+    Ok((Prepared::Built { prepared: Box::new(prepared), summary }, outcome, load_seconds))
+}
+
+/// The entry name's hash: everything but the input files' bytes that shapes an entry.
+pub fn entry_key(scene_path: &Path, options: &PrepareOptions) -> u128 {
+    let path = std::path::absolute(scene_path).unwrap_or_else(|_| scene_path.to_path_buf());
+    let b = &options.build;
+    // The thread count is left out: the tree does not depend on it.
+    let text = format!(
+        "format {CACHE_FORMAT}; vkrt {}; scene {}; builder {}; layout {}; leaf {}; bins {}; costs {} {}; texel budget {}",
+        env!("CARGO_PKG_VERSION"),
+        path.display(),
+        options.builder.name(),
+        options.layout.name(),
+        b.max_leaf_size,
+        b.sah_bins,
+        b.traversal_cost,
+        b.intersection_cost,
+        super::texture_atlas::TEXEL_BUDGET_BYTES,
+    );
+    xxh3_128(text.as_bytes())
+}
+
+/// What an entry holds besides its arrays.
+#[derive(Debug, Clone, PartialEq)]
+struct Meta {
+    version: String,
+    /// Every input file with its length and content hash when the entry was made.
+    inputs: Vec<(PathBuf, u64)>,
+    summary: SceneSummary,
+    bounds: Aabb,
+    features: Features,
+    layout: LayoutKind,
+    push: GpuPush,
+    total_weight: f64,
+    downsampled: Vec<String>,
+    /// (offset, length) in bytes of each array, in [`ARRAYS`] order.
+    arrays: Vec<(u64, u64)>,
+}
+
+/// The arrays of an entry, in file order.
+const ARRAYS: [&str; 10] = ["nodes", "triangles", "shading", "materials", "lights", "emitters", "uvs", "textures", "texels", "light picks"];
+
+fn array_bytes<'a>(a: &SceneArrays<'a>) -> [&'a [u8]; 10] {
+    use bytemuck::cast_slice as b;
+    [a.nodes, b(a.triangles), b(a.shading), b(a.materials), b(a.lights), b(a.emitters), b(a.uvs), b(a.textures), b(a.texels), b(a.picks)]
+}
+
+/// A mapped cache entry, checked.
+pub struct CachedScene {
+    map: memmap2::Mmap,
+    meta: Meta,
+}
+
+impl CachedScene {
+    fn open(path: &Path) -> Result<Self> {
+        let file = std::fs::File::open(path).context("opening it")?;
+        // SAFETY: entries are never written in place (stores rename a new file over the old
+        // one, eviction unlinks), so the mapped bytes cannot change under us; a file cut short
+        // by something else is caught by the length and checksum checks below before any read
+        // past what exists.
+        let map = unsafe { memmap2::Mmap::map(&file) }.context("mapping it")?;
+        let header = map.get(..HEADER_BYTES).context("truncated: shorter than its header")?;
+        if &header[..8] != MAGIC {
+            bail!("not a vkrt prepared-scene file");
+        }
+        let format = u32::from_le_bytes(header[8..12].try_into()?);
+        if format != CACHE_FORMAT {
+            bail!("cache format {format}, this vkrt reads {CACHE_FORMAT}");
+        }
+        let meta_len = u64::from_le_bytes(header[16..24].try_into()?) as usize;
+        let total = u64::from_le_bytes(header[24..32].try_into()?);
+        if total != map.len() as u64 {
+            bail!("truncated: {} bytes of {total}", map.len());
+        }
+        let checksum = u128::from_le_bytes(header[32..48].try_into()?);
+        if xxh3_128(&map[HEADER_BYTES..]) != checksum {
+            bail!("corrupt: its checksum does not match its contents");
+        }
+        let meta_bytes = map.get(HEADER_BYTES..HEADER_BYTES + meta_len).context("truncated metadata")?;
+        let meta = Reader { bytes: meta_bytes, at: 0 }.meta().context("reading its metadata")?;
+        if meta.version != env!("CARGO_PKG_VERSION") {
+            bail!("made by vkrt {}", meta.version);
+        }
+        for (input, hash) in &meta.inputs {
+            let now = super::content_hash(input).with_context(|| format!("stale: {} cannot be read", input.display()))?;
+            if now != *hash {
+                bail!("stale: {} changed since it was cached", input.display());
+            }
+        }
+        let scene = Self { map, meta };
+        // Every array within the file and aligned for its type (casts below cannot fail then).
+        scene.try_arrays()?;
+        Ok(scene)
+    }
+
+    fn array<T: bytemuck::Pod>(&self, i: usize) -> Result<&[T]> {
+        let (offset, len) = self.meta.arrays[i];
+        let bytes = self.map.get(offset as usize..(offset + len) as usize).with_context(|| format!("its {} lie past its end", ARRAYS[i]))?;
+        bytemuck::try_cast_slice(bytes).map_err(|e| anyhow::anyhow!("its {} are misaligned: {e:?}", ARRAYS[i]))
+    }
+
+    fn try_arrays(&self) -> Result<SceneArrays<'_>> {
+        if self.meta.arrays.len() != ARRAYS.len() {
+            bail!("{} arrays, not {}", self.meta.arrays.len(), ARRAYS.len());
+        }
+        Ok(SceneArrays {
+            layout: self.meta.layout,
+            nodes: self.array(0)?,
+            push: self.meta.push,
+            triangles: self.array(1)?,
+            shading: self.array(2)?,
+            materials: self.array(3)?,
+            lights: self.array(4)?,
+            emitters: self.array(5)?,
+            uvs: self.array(6)?,
+            textures: self.array(7)?,
+            texels: self.array(8)?,
+            picks: self.array(9)?,
+            total_weight: self.meta.total_weight,
+        })
+    }
+
+    fn arrays(&self) -> Result<SceneArrays<'_>> {
+        self.try_arrays()
+    }
+}
+
+/// Writes `prepared` as the entry `entry`: to a temporary file beside it, renamed into place.
+fn store(cache: &Cache, entry: &Path, prepared: &PreparedScene, summary: &SceneSummary) -> Result<()> {
+    std::fs::create_dir_all(&cache.dir).with_context(|| format!("creating {}", cache.dir.display()))?;
+    let inputs = summary
+        .stats
+        .inputs
+        .iter()
+        .map(|p| Ok((p.clone(), super::content_hash(p)?)))
+        .collect::<Result<Vec<_>>>()?;
+    let a = prepared.arrays();
+    let arrays = array_bytes(&a);
+    let mut meta = Meta {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        inputs,
+        summary: summary.clone(),
+        bounds: prepared.info.bounds,
+        features: prepared.info.features.clone(),
+        layout: a.layout,
+        push: a.push,
+        total_weight: a.total_weight,
+        downsampled: prepared.atlas.downsampled.clone(),
+        arrays: Vec::new(),
+    };
+    // The metadata's length does not depend on the offsets' values, so lay it out once with
+    // placeholders, then again with the real offsets.
+    meta.arrays = vec![(0, 0); ARRAYS.len()];
+    let meta_len = encode(&meta).len();
+    let mut offset = (HEADER_BYTES + meta_len).next_multiple_of(ARRAY_ALIGN) as u64;
+    for (slot, bytes) in meta.arrays.iter_mut().zip(arrays) {
+        *slot = (offset, bytes.len() as u64);
+        offset = (offset + bytes.len() as u64).next_multiple_of(ARRAY_ALIGN as u64);
+    }
+    let meta_bytes = encode(&meta);
+    let total = offset;
+
+    let tmp = entry.with_extension(format!("{}.tmp", std::process::id()));
+    let result = (|| -> Result<()> {
+        let file = std::fs::File::create(&tmp)?;
+        let mut out = std::io::BufWriter::with_capacity(1 << 20, file);
+        let mut hasher = Xxh3::new();
+        let mut body = |out: &mut std::io::BufWriter<std::fs::File>, bytes: &[u8]| -> std::io::Result<()> {
+            hasher.update(bytes);
+            out.write_all(bytes)
+        };
+        out.write_all(&[0u8; HEADER_BYTES])?;
+        let mut at = HEADER_BYTES as u64;
+        body(&mut out, &meta_bytes)?;
+        at += meta_bytes.len() as u64;
+        for ((offset, len), bytes) in meta.arrays.iter().zip(arrays) {
+            body(&mut out, &vec![0u8; (offset - at) as usize])?;
+            body(&mut out, bytes)?;
+            at = offset + len;
+        }
+        body(&mut out, &vec![0u8; (total - at) as usize])?;
+        let mut header = [0u8; HEADER_BYTES];
+        header[..8].copy_from_slice(MAGIC);
+        header[8..12].copy_from_slice(&CACHE_FORMAT.to_le_bytes());
+        header[16..24].copy_from_slice(&(meta_bytes.len() as u64).to_le_bytes());
+        header[24..32].copy_from_slice(&total.to_le_bytes());
+        header[32..48].copy_from_slice(&hasher.digest128().to_le_bytes());
+        let mut file = out.into_inner().map_err(|e| e.into_error())?;
+        use std::io::Seek as _;
+        file.seek(std::io::SeekFrom::Start(0))?;
+        file.write_all(&header)?;
+        // No fsync: after a crash a renamed entry may hold less than was written, which the
+        // length and checksum checks of `open` catch; waiting for the disk would add seconds
+        // to the first run of a big scene.
+        Ok(())
+    })();
+    if let Err(e) = result.and_then(|()| std::fs::rename(&tmp, entry).map_err(Into::into)) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e).with_context(|| format!("writing {}", tmp.display()));
+    }
+    evict(cache, entry);
+    Ok(())
+}
+
+/// Removes the least recently used entries (by modification time) until the cache fits in
+/// `max_bytes`; never `keep`. Best effort: an entry another run removed first is skipped.
+fn evict(cache: &Cache, keep: &Path) {
+    if cache.max_bytes == u64::MAX {
+        return;
+    }
+    let Ok(dir) = std::fs::read_dir(&cache.dir) else { return };
+    let mut entries: Vec<(std::time::SystemTime, u64, PathBuf)> = dir
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().extension().is_some_and(|x| x == EXTENSION))
+        .filter_map(|e| e.metadata().ok().map(|m| (m.modified().unwrap_or(std::time::UNIX_EPOCH), m.len(), e.path())))
+        .collect();
+    let mut total: u64 = entries.iter().map(|e| e.1).sum();
+    entries.sort();
+    for (_, len, path) in entries {
+        if total <= cache.max_bytes {
+            break;
+        }
+        if path != keep && std::fs::remove_file(&path).is_ok() {
+            total -= len;
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The metadata's encoding: fixed-width little-endian numbers, strings as a length and UTF-8.
+
+fn encode(m: &Meta) -> Vec<u8> {
+    let mut w = Writer(Vec::new());
+    w.str(&m.version);
+    w.u64(m.inputs.len() as u64);
+    for (p, h) in &m.inputs {
+        w.str(&p.to_string_lossy());
+        w.u64(*h);
+    }
+    let s = &m.summary;
+    w.camera(&s.camera);
+    w.u64(s.cameras.len() as u64);
+    for c in &s.cameras {
+        w.camera(c);
+    }
+    w.vec3(s.ambient);
+    match s.sky {
+        Sky::None => w.u32(0),
+        Sky::Constant(c) => {
+            w.u32(1);
+            w.vec3(c);
+        }
+        Sky::CubeMap { first_texture, scale } => {
+            w.u32(2);
+            w.u32(first_texture);
+            w.vec3(scale);
+        }
+    }
+    w.u64(s.stats.dropped_degenerate as u64);
+    w.strs(&s.stats.warnings);
+    w.u64(s.stats.inputs.len() as u64);
+    for p in &s.stats.inputs {
+        w.str(&p.to_string_lossy());
+    }
+    w.u32(s.stats.interior as u32);
+    for n in [s.triangles, s.materials, s.lights] {
+        w.u64(n as u64);
+    }
+    w.vec3(m.bounds.min);
+    w.vec3(m.bounds.max);
+    w.u64(m.features.entries.len() as u64);
+    for (f, on, why) in &m.features.entries {
+        w.str(f.name);
+        w.u32(*on as u32);
+        w.str(why);
+    }
+    w.str(m.layout.name());
+    w.bytes(bytemuck::bytes_of(&m.push));
+    w.0.extend_from_slice(&m.total_weight.to_le_bytes());
+    w.strs(&m.downsampled);
+    w.u64(m.arrays.len() as u64);
+    for (o, l) in &m.arrays {
+        w.u64(*o);
+        w.u64(*l);
+    }
+    w.0
+}
+
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u32(&mut self, v: u32) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn u64(&mut self, v: u64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn f32(&mut self, v: f32) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn vec3(&mut self, v: Vec3) {
+        for x in v.to_array() {
+            self.f32(x);
+        }
+    }
+    fn bytes(&mut self, b: &[u8]) {
+        self.u64(b.len() as u64);
+        self.0.extend_from_slice(b);
+    }
+    fn str(&mut self, s: &str) {
+        self.bytes(s.as_bytes());
+    }
+    fn strs(&mut self, v: &[String]) {
+        self.u64(v.len() as u64);
+        for s in v {
+            self.str(s);
+        }
+    }
+    fn camera(&mut self, c: &Camera) {
+        self.vec3(c.eye);
+        self.vec3(c.target);
+        self.vec3(c.up);
+        self.f32(c.fov_y_deg);
+    }
+}
+
+struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8]> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len()).context("metadata cut short")?;
+        let out = &self.bytes[self.at..end];
+        self.at = end;
+        Ok(out)
+    }
+    fn u32(&mut self) -> Result<u32> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into()?))
+    }
+    fn u64(&mut self) -> Result<u64> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into()?))
+    }
+    fn f32(&mut self) -> Result<f32> {
+        Ok(f32::from_le_bytes(self.take(4)?.try_into()?))
+    }
+    fn f64(&mut self) -> Result<f64> {
+        Ok(f64::from_le_bytes(self.take(8)?.try_into()?))
+    }
+    fn vec3(&mut self) -> Result<Vec3> {
+        Ok(Vec3::new(self.f32()?, self.f32()?, self.f32()?))
+    }
+    /// A count of things of at least `min_bytes` each: no larger than what is left, so a
+    /// corrupt count cannot ask for a huge allocation.
+    fn count(&mut self, min_bytes: usize) -> Result<usize> {
+        let n = self.u64()?;
+        if n > ((self.bytes.len() - self.at) / min_bytes.max(1)) as u64 {
+            bail!("a count of {n} is more than the metadata holds");
+        }
+        Ok(n as usize)
+    }
+    fn bytes(&mut self) -> Result<&[u8]> {
+        let n = self.count(1)?;
+        self.take(n)
+    }
+    fn str(&mut self) -> Result<String> {
+        Ok(std::str::from_utf8(self.bytes()?)?.to_string())
+    }
+    fn strs(&mut self) -> Result<Vec<String>> {
+        (0..self.count(8)?).map(|_| self.str()).collect()
+    }
+    fn camera(&mut self) -> Result<Camera> {
+        Ok(Camera { eye: self.vec3()?, target: self.vec3()?, up: self.vec3()?, fov_y_deg: self.f32()? })
+    }
+
+    fn meta(mut self) -> Result<Meta> {
+        let version = self.str()?;
+        let inputs = (0..self.count(16)?).map(|_| Ok((PathBuf::from(self.str()?), self.u64()?))).collect::<Result<Vec<_>>>()?;
+        let camera = self.camera()?;
+        let cameras = (0..self.count(40)?).map(|_| self.camera()).collect::<Result<Vec<_>>>()?;
+        let ambient = self.vec3()?;
+        let sky = match self.u32()? {
+            0 => Sky::None,
+            1 => Sky::Constant(self.vec3()?),
+            2 => Sky::CubeMap { first_texture: self.u32()?, scale: self.vec3()? },
+            other => bail!("unknown sky kind {other}"),
+        };
+        let dropped_degenerate = self.u64()? as usize;
+        let warnings = self.strs()?;
+        let stat_inputs = (0..self.count(8)?).map(|_| Ok(PathBuf::from(self.str()?))).collect::<Result<Vec<_>>>()?;
+        let interior = self.u32()? != 0;
+        let (triangles, materials, lights) = (self.u64()? as usize, self.u64()? as usize, self.u64()? as usize);
+        let bounds = Aabb { min: self.vec3()?, max: self.vec3()? };
+        let mut entries = Vec::new();
+        for _ in 0..self.count(20)? {
+            let name = self.str()?;
+            let feature = *features::ALL.iter().find(|f| f.name == name).with_context(|| format!("unknown shader feature {name:?}"))?;
+            entries.push((feature, self.u32()? != 0, self.str()?));
+        }
+        let layout_name = self.str()?;
+        let layout = *LayoutKind::ALL.iter().find(|l| l.name() == layout_name).with_context(|| format!("unknown layout {layout_name:?}"))?;
+        let push = bytemuck::try_pod_read_unaligned::<GpuPush>(self.bytes()?).map_err(|e| anyhow::anyhow!("push constants: {e:?}"))?;
+        let total_weight = self.f64()?;
+        let downsampled = self.strs()?;
+        let arrays = (0..self.count(16)?).map(|_| Ok((self.u64()?, self.u64()?))).collect::<Result<Vec<_>>>()?;
+        Ok(Meta {
+            version,
+            inputs,
+            summary: SceneSummary {
+                camera,
+                cameras,
+                ambient,
+                sky,
+                stats: LoadStats { dropped_degenerate, warnings, inputs: stat_inputs, interior },
+                triangles,
+                materials,
+                lights,
+            },
+            bounds,
+            features: Features { entries },
+            layout,
+            push,
+            total_weight,
+            downsampled,
+            arrays,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn metadata_round_trips_and_a_cut_is_an_error() {
+        let meta = Meta {
+            version: "9.9.9".into(),
+            inputs: vec![(PathBuf::from("/a/b.obj"), 7), (PathBuf::from("/a/ü.mtl"), u64::MAX)],
+            summary: SceneSummary {
+                camera: Camera::default(),
+                cameras: vec![Camera::default(), Camera { fov_y_deg: 30.0, ..Camera::default() }],
+                ambient: Vec3::new(0.1, 0.2, 0.3),
+                sky: Sky::CubeMap { first_texture: 3, scale: Vec3::ONE },
+                stats: LoadStats { dropped_degenerate: 5, warnings: vec!["w".into()], inputs: vec!["/a/b.obj".into()], interior: true },
+                triangles: 10,
+                materials: 2,
+                lights: 1,
+            },
+            bounds: Aabb { min: Vec3::splat(-1.0), max: Vec3::splat(2.0) },
+            features: Features::all(),
+            layout: LayoutKind::Compact,
+            push: GpuPush { node_count: 17, ..bytemuck::Zeroable::zeroed() },
+            total_weight: 12.5,
+            downsampled: vec![],
+            arrays: vec![(64, 10), (128, 0)],
+        };
+        let bytes = encode(&meta);
+        assert_eq!(Reader { bytes: &bytes, at: 0 }.meta().unwrap(), meta);
+        for cut in [0, 1, bytes.len() / 2, bytes.len() - 1] {
+            assert!(Reader { bytes: &bytes[..cut], at: 0 }.meta().is_err(), "cut at {cut}");
+        }
+    }
+}
