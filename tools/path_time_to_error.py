@@ -15,7 +15,12 @@ Usage (from the repository root, after `cargo build --release`):
   tools/path_time_to_error.py --scene scenes/cornell-measured/cornell.yaml \
       --reference ../shared/refs/cornell-512.exr --spp 1 4 16 64 --out target/bench/path
 Only the Python standard library is needed; matplotlib adds the plot, mitsuba adds its curve
-(PyPI `mitsuba`, variant llvm_ad_rgb, needs libLLVM 19).
+(PyPI `mitsuba`, variant llvm_ad_rgb, needs libLLVM 19: Debian 12 `libllvm19`), and
+`flip-evaluator` (PyPI; with mitsuba, whose EXR reader it uses) adds the perceptual metric: mean HDR-FLIP against the reference, for
+every image of both renderers. relMSE alone rewards correlated samples (streaks, blocks), so a
+change is a win only if both fall. The first lines printed (and OUT/machine.txt) name the
+machine the numbers come from: CPU model, AVX-512 or not, the Vulkan driver with its Mesa and
+LLVM versions, and Mitsuba's version.
 """
 
 import argparse
@@ -38,6 +43,42 @@ def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence
     if not m:
         sys.exit(f"no render time in vkrt's report:\n{res.stderr}")
     return float(m.group(1))
+
+
+def flip_hdr(image, reference):
+    """Mean HDR-FLIP of `image` against `reference` (file paths), or None without flip-evaluator.
+    The images are read with Mitsuba's EXR reader (flip-evaluator's own segfaults on vkrt's
+    EXR files), in a process of its own (beside the JIT-compiled llvm_ad_rgb variant it crashed)."""
+    import importlib.util
+    if importlib.util.find_spec("flip_evaluator") is None or importlib.util.find_spec("mitsuba") is None:
+        return None
+    code = ("import sys, numpy as np, flip_evaluator as f, mitsuba as mi; mi.set_variant('scalar_rgb'); "
+            "load = lambda p: np.ascontiguousarray(np.array(mi.Bitmap(p).convert(mi.Bitmap.PixelFormat.RGB, "
+            "mi.Struct.Type.Float32), dtype=np.float32)); "
+            "print(f.evaluate(load(sys.argv[2]), load(sys.argv[1]), 'HDR', applyMagma=False)[1])")
+    res = subprocess.run([sys.executable, "-c", code, image, reference], capture_output=True, text=True)
+    if res.returncode != 0:
+        sys.exit(f"flip-evaluator failed on {image}:\n{res.stderr}")
+    return float(res.stdout.strip().splitlines()[-1])
+
+
+def machine(binary, mitsuba_version):
+    """One line naming where the numbers come from."""
+    cpu, avx512 = "unknown CPU", False
+    try:
+        with open("/proc/cpuinfo") as f:
+            text = f.read()
+        m = re.search(r"^model name\s*:\s*(.+)$", text, re.M)
+        cpu = m.group(1).strip() if m else cpu
+        avx512 = bool(re.search(r"^flags\s*:.*\bavx512f\b", text, re.M))
+        cores = len(re.findall(r"^processor\s*:", text, re.M))
+    except OSError:
+        cores = os.cpu_count()
+    # `vkrt info`'s first device: its name, then the Vulkan and driver line (Mesa, LLVM).
+    info = subprocess.run([binary, "info"], capture_output=True, text=True).stdout.splitlines()
+    device = ", ".join(l.strip() for l in info[:2]) or "?"
+    return (f"CPU: {cpu}, {cores} cores, AVX-512 {'yes' if avx512 else 'no'}; vkrt device: {device}; "
+            f"Mitsuba: {mitsuba_version or 'not run'}")
 
 
 def vkrt_compare(binary, image, reference):
@@ -136,12 +177,13 @@ class MitsubaBench:
                                    args.width, args.height, args.out)
         mi.render(self.scene, spp=1, seed=999)  # warm-up: JIT compilation
 
-    def render(self, spp):
-        """(seconds, relMSE) of one render."""
+    def render(self, spp, path):
+        """(seconds, relMSE) of one render, written to `path` (EXR) for FLIP."""
         t = time.perf_counter()
-        img = self.mi.render(self.scene, spp=spp, seed=self.seed)
-        img = self.np.array(img, dtype=self.np.float64)  # forces evaluation
+        out = self.mi.render(self.scene, spp=spp, seed=self.seed)
+        img = self.np.array(out, dtype=self.np.float64)  # forces evaluation
         secs = time.perf_counter() - t
+        self.mi.Bitmap(out).write(path)
         ref = self.ref
         return secs, float(self.np.mean((img[..., :3] - ref) ** 2 / (ref ** 2 + 0.01)))
 
@@ -155,25 +197,30 @@ def plot(rows, args):
     except ImportError:
         print("matplotlib not installed: no plot", file=sys.stderr)
         return
-    fig, ax = plt.subplots(figsize=(9, 4.5))
-    for name in dict.fromkeys(r[0] for r in rows):
-        pts = [(r[2], r[3]) for r in rows if r[0] == name]
-        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=name)
-    ax.set_xlabel("render seconds")
-    ax.set_ylabel("relMSE vs reference")
-    ax.set_title(f"{os.path.basename(args.scene)} {args.width}x{args.height}: error vs time")
-    ax.grid(True, which="both", alpha=0.3)
-    # Label decades only: minor-tick labels on a short log axis overlap.
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.5))
     from matplotlib.ticker import NullFormatter
-    ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.yaxis.set_minor_formatter(NullFormatter())
+    for ax, col, label in ((axes[0], 3, "relMSE vs reference"), (axes[1], 4, "mean HDR-FLIP vs reference")):
+        for name in dict.fromkeys(r[0] for r in rows):
+            pts = [(r[2], r[col]) for r in rows if r[0] == name and r[col] is not None]
+            if pts:
+                ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=name)
+        ax.set_xlabel("render seconds")
+        ax.set_ylabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+    ax = axes[0]
     # The figure of merit as guide lines: relMSE x seconds = constant is a line of slope -1.
     xs = [min(r[2] for r in rows), max(r[2] for r in rows)]
     for product in (0.1, 0.01):
         ax.loglog(xs, [product / x for x in xs], ":", color="grey", linewidth=0.8)
         ax.annotate(f"relMSE x s = {product:g}", (xs[1], product / xs[1]), fontsize=7, color="grey", ha="right", va="bottom")
+    fig.suptitle(f"{os.path.basename(args.scene)} {args.width}x{args.height}: error vs time\n{getattr(args, 'machine', '')}", fontsize=8)
+    for a in axes:
+        # Label decades only: minor-tick labels on a short log axis overlap (set last: a
+        # loglog call resets the formatters).
+        a.xaxis.set_minor_formatter(NullFormatter())
+        a.yaxis.set_minor_formatter(NullFormatter())
     # Beside the axes: with eight or more curves a legend inside covers them.
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     png = os.path.join(args.out, "time_to_error.png")
     fig.savefig(png, dpi=120, bbox_inches="tight")
     print(f"wrote {png}")
@@ -208,14 +255,25 @@ def main():
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     if args.replot:
+        machine_txt = os.path.join(os.path.dirname(args.replot), "machine.txt")
+        if os.path.exists(machine_txt):
+            with open(machine_txt) as f:
+                args.machine = f.read().strip()
         with open(args.replot, newline="") as f:
-            rows = [(r["renderer"], int(r["spp"]), float(r["seconds"]), float(r["relmse"])) for r in csv.DictReader(f)]
+            rows = [(r["renderer"], int(r["spp"]), float(r["seconds"]), float(r["relmse"]),
+                     float(r["flip_hdr"]) if r.get("flip_hdr") else None) for r in csv.DictReader(f)]
         plot(rows, args)
         return
 
     configs = [(c, s, a) for c in args.coherence for s in args.samplers for a in args.sampling]
     mitsuba = None if args.no_mitsuba else MitsubaBench.load(args, args.reference)
-    best = {}  # (renderer, spp) -> [seconds, relMSE], in first-run order
+    args.machine = machine(args.vkrt, mitsuba.mi.__version__ if mitsuba else None)
+    print(args.machine, flush=True)
+    with open(os.path.join(args.out, "machine.txt"), "w") as f:
+        f.write(args.machine + "\n")
+    if flip_hdr(args.reference, args.reference) is None:
+        print("flip-evaluator or mitsuba not installed (pip install flip-evaluator mitsuba): no FLIP column", file=sys.stderr)
+    best = {}  # (renderer, spp) -> [seconds, relMSE, FLIP], in first-run order
     for r in range(args.rounds):
         for coherence, sampler, sampling in configs:
             adaptive = sampling == "adaptive"
@@ -225,27 +283,31 @@ def main():
                 img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence}{'-adaptive' if adaptive else ''}-{spp}.exr")
                 secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
                 rel = vkrt_compare(args.vkrt, img, args.reference)
+                flip = flip_hdr(img, args.reference)
                 key = (f"vkrt {name} (lavapipe)", spp)
-                best[key] = [min(secs, best.get(key, [secs])[0]), rel]
-                print(f"round {r + 1}: vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
+                best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
+                print(f"round {r + 1}: vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
         for spp in args.spp if mitsuba else []:
-            secs, rel = mitsuba.render(spp)
+            img = os.path.join(args.out, f"mitsuba-{spp}.exr")
+            secs, rel = mitsuba.render(spp, img)
+            flip = flip_hdr(img, args.reference)
             key = ("mitsuba3 llvm_ad_rgb", spp)
-            best[key] = [min(secs, best.get(key, [secs])[0]), rel]
-            print(f"round {r + 1}: mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f}", flush=True)
-    rows = [(name, spp, secs, rel) for (name, spp), (secs, rel) in best.items()]
+            best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
+            print(f"round {r + 1}: mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
+    rows = [(name, spp, secs, rel, flip) for (name, spp), (secs, rel, flip) in best.items()]
 
     csv_path = os.path.join(args.out, "time_to_error.csv")
     with open(csv_path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["renderer", "spp", "seconds", "relmse", "relmse_x_seconds"])
+        w.writerow(["renderer", "spp", "seconds", "relmse", "relmse_x_seconds", "flip_hdr"])
         for r in rows:
-            w.writerow([r[0], r[1], f"{r[2]:.4f}", f"{r[3]:.6e}", f"{r[2] * r[3]:.5f}"])
+            w.writerow([r[0], r[1], f"{r[2]:.4f}", f"{r[3]:.6e}", f"{r[2] * r[3]:.5f}", "" if r[4] is None else f"{r[4]:.5f}"])
     print(f"wrote {csv_path}")
 
-    print("\n| renderer | spp | seconds | relMSE | relMSE x s |\n|---|---:|---:|---:|---:|")
+    fmt = lambda x: "-" if x is None else f"{x:.4f}"
+    print(f"\n{args.machine}\n\n| renderer | spp | seconds | relMSE | relMSE x s | HDR-FLIP |\n|---|---:|---:|---:|---:|---:|")
     for r in rows:
-        print(f"| {r[0]} | {r[1]} | {r[2]:.2f} | {r[3]:.3e} | {r[2] * r[3]:.4f} |")
+        print(f"| {r[0]} | {r[1]} | {r[2]:.2f} | {r[3]:.3e} | {r[2] * r[3]:.4f} | {fmt(r[4])} |")
 
     plot(rows, args)
 
