@@ -618,6 +618,30 @@ mod tests {
     use super::*;
 
     #[test]
+    fn eviction_removes_the_least_recently_used_entries_but_never_the_one_kept() {
+        let dir = std::env::temp_dir().join(format!("vkrt-evict-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let now = std::time::SystemTime::now();
+        let entry = |i: u64| {
+            let p = dir.join(format!("{i}.{EXTENSION}"));
+            std::fs::write(&p, [0u8; 100]).unwrap();
+            let age = std::time::Duration::from_secs(100 * (4 - i));
+            std::fs::File::options().append(true).open(&p).unwrap().set_modified(now - age).unwrap();
+            p
+        };
+        let files: Vec<PathBuf> = (0..4).map(entry).collect();
+        std::fs::write(dir.join("other.txt"), [0u8; 1000]).unwrap();
+        // 400 bytes of entries, 250 allowed: the two oldest go, unless one is kept.
+        let cache = Cache { dir: dir.clone(), min_prepare_seconds: 0.0, max_bytes: 250 };
+        evict(&cache, &files[0]);
+        let left: Vec<bool> = files.iter().map(|f| f.exists()).collect();
+        assert_eq!(left, [true, false, false, true], "the oldest is kept as asked; the next two go");
+        assert!(dir.join("other.txt").exists(), "files that are not entries are left alone");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn metadata_round_trips_and_a_cut_is_an_error() {
         let meta = Meta {
             version: "9.9.9".into(),
