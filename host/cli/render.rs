@@ -17,7 +17,7 @@ use crate::gpu::DeviceInfo;
 use crate::integrator::path::checkpoint::{camera_flags, Checkpoint, Identity};
 use crate::integrator::{whitted, Image, RenderSettings};
 use crate::output::display::{Display, Exposure, Tonemap};
-use crate::prepare::cache::{prepare_scene, Cache, CacheOutcome, Prepared};
+use crate::prepare::cache::{prepare_scene, Cache, CacheOutcome, Prepared, Storing};
 use crate::prepare::{Features, GpuScene, PrepareOptions};
 use crate::scene::{Camera, SceneSummary};
 use crate::{output, scene};
@@ -376,7 +376,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let options = PrepareOptions { builder, layout, build: BuildConfig::default() };
     let cache = args.scene_cache();
     let t0 = Instant::now();
-    let (prepared, cache_outcome, parse_s) = prepare_scene(&scene_path, &options, cache.as_ref(), &mut |w| say.line(&format!("warning: {w}")))?;
+    let (prepared, cache_outcome, storing, parse_s) = prepare_scene(&scene_path, &options, cache.as_ref(), &mut |w| say.line(&format!("warning: {w}")))?;
     let prepare_s = t0.elapsed().as_secs_f64();
     let mut scene = prepared.summary().clone();
     for w in scene.stats.warnings.iter().chain(prepared.downsampled()) {
@@ -481,6 +481,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("interrupted after {samples} spp; wrote {}{saved}", output.display());
     }
     ctx.check_validation().context("Vulkan validation")?;
+    // The prepared-scene entry, written while the render ran.
+    match storing.map(Storing::finish) {
+        Some(CacheOutcome::Stored { entry, seconds }) if args.verbose => {
+            eprintln!("prepared-scene cache: stored {} ({seconds:.3} s, beside the render)", entry.display())
+        }
+        Some(CacheOutcome::NotStored { why }) => say.line(&format!("warning: prepared-scene cache: {why}")),
+        _ => {}
+    }
     let what = match (integrator, relmse) {
         (IntegratorKind::Whitted, _) => format!("{} spp, depth {}", args.spp.unwrap_or(1), args.max_depth.unwrap_or(WHITTED_DEFAULT_DEPTH)),
         (IntegratorKind::Path, est) => {
@@ -541,8 +549,8 @@ fn report(
                 t.shading,
             );
             match cache {
-                CacheOutcome::Stored { entry, seconds } => {
-                    eprintln!("prepared-scene cache: stored {} in {seconds:.3} s ({prepare_s:.3} s to load and prepare)", entry.display())
+                CacheOutcome::Storing { entry } => {
+                    eprintln!("prepared-scene cache: storing {} beside the render ({prepare_s:.3} s to load and prepare)", entry.display())
                 }
                 CacheOutcome::NotStored { why } => eprintln!("prepared-scene cache: not stored ({why})"),
                 _ => eprintln!("prepared-scene cache: off"),

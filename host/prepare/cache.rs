@@ -77,7 +77,7 @@ impl Cache {
 
 /// A prepared scene, built now or mapped from the cache.
 pub enum Prepared {
-    Built { prepared: Box<PreparedScene>, summary: SceneSummary },
+    Built { prepared: std::sync::Arc<PreparedScene>, summary: SceneSummary },
     Cached(Box<CachedScene>),
 }
 
@@ -91,6 +91,34 @@ pub enum CacheOutcome {
     /// Prepared now and stored in this entry (seconds to write it), or not stored (why).
     Stored { entry: PathBuf, seconds: f64 },
     NotStored { why: String },
+    /// Prepared now; the entry is being written by [`Storing`].
+    Storing { entry: PathBuf },
+}
+
+/// An entry being written on a thread of its own while the render runs (a 10M-triangle scene's
+/// entry takes seconds to write). [`Storing::finish`] waits for it; dropping it waits too, so
+/// that no run exits with a half-written temporary file.
+pub struct Storing(Option<std::thread::JoinHandle<CacheOutcome>>);
+
+impl Storing {
+    /// Waits for the store; its outcome (a failure is `NotStored`, already described).
+    pub fn finish(mut self) -> CacheOutcome {
+        self.wait()
+    }
+
+    fn wait(&mut self) -> CacheOutcome {
+        match self.0.take().map(std::thread::JoinHandle::join) {
+            Some(Ok(outcome)) => outcome,
+            Some(Err(_)) => CacheOutcome::NotStored { why: "the thread storing the entry panicked".into() },
+            None => CacheOutcome::Off,
+        }
+    }
+}
+
+impl Drop for Storing {
+    fn drop(&mut self) {
+        let _ = self.wait();
+    }
 }
 
 impl Prepared {
@@ -139,9 +167,16 @@ impl Prepared {
 
 /// Loads and prepares `scene_path` as `options` say, through `cache` if there is one: an
 /// entry that is whole and current is mapped; otherwise the scene is prepared and (if the
-/// cache takes it) stored. Problems with the cache itself are warnings (`warn`), never errors:
-/// the render goes on without it. Also returns the seconds spent loading the scene file.
-pub fn prepare_scene(scene_path: &Path, options: &PrepareOptions, cache: Option<&Cache>, warn: &mut dyn FnMut(String)) -> Result<(Prepared, CacheOutcome, f64)> {
+/// cache takes it) stored, on a thread of its own (the returned [`Storing`]), so that the
+/// upload and the render need not wait for the disk. Problems with the cache itself are
+/// warnings (`warn`, or the store's `NotStored` reason), never errors: the render goes on
+/// without it. Also returns the seconds spent loading the scene file.
+pub fn prepare_scene(
+    scene_path: &Path,
+    options: &PrepareOptions,
+    cache: Option<&Cache>,
+    warn: &mut dyn FnMut(String),
+) -> Result<(Prepared, CacheOutcome, Option<Storing>, f64)> {
     let entry = match cache {
         Some(c) => Some(c.dir.join(format!("{:032x}.{EXTENSION}", entry_key(scene_path, options)))),
         None => None,
@@ -154,7 +189,7 @@ pub fn prepare_scene(scene_path: &Path, options: &PrepareOptions, cache: Option<
                     // The modification time orders entries for eviction: a hit keeps one.
                     let _ = std::fs::File::options().append(true).open(entry).and_then(|f| f.set_modified(std::time::SystemTime::now()));
                     let seconds = start.elapsed().as_secs_f64();
-                    return Ok((Prepared::Cached(Box::new(scene)), CacheOutcome::Hit { entry: entry.clone(), seconds }, 0.0));
+                    return Ok((Prepared::Cached(Box::new(scene)), CacheOutcome::Hit { entry: entry.clone(), seconds }, None, 0.0));
                 }
                 Err(e) => warn(format!("prepared-scene cache: not using {}: {e:#}; preparing the scene again", entry.display())),
             }
@@ -163,26 +198,29 @@ pub fn prepare_scene(scene_path: &Path, options: &PrepareOptions, cache: Option<
     let start = Instant::now();
     let scene = scene::load_scene(scene_path)?;
     let load_seconds = start.elapsed().as_secs_f64();
-    let prepared = PreparedScene::new(&scene, options)?;
+    let prepared = std::sync::Arc::new(PreparedScene::new(&scene, options)?);
     let summary = scene.summary();
     drop(scene);
     let (Some(cache), Some(entry)) = (cache, entry) else {
-        return Ok((Prepared::Built { prepared: Box::new(prepared), summary }, CacheOutcome::Off, load_seconds));
+        return Ok((Prepared::Built { prepared, summary }, CacheOutcome::Off, None, load_seconds));
     };
     let spent = load_seconds + prepared.times.bvh() + prepared.times.shading;
-    let outcome = if spent < cache.min_prepare_seconds {
-        CacheOutcome::NotStored { why: format!("prepared in {spent:.2} s, under the {:.1} s worth caching", cache.min_prepare_seconds) }
-    } else {
-        let start = Instant::now();
-        match store(cache, &entry, &prepared, &summary) {
-            Ok(()) => CacheOutcome::Stored { entry, seconds: start.elapsed().as_secs_f64() },
-            Err(e) => {
-                warn(format!("prepared-scene cache: could not store {}: {e:#}", entry.display()));
-                CacheOutcome::NotStored { why: format!("{e:#}") }
+    if spent < cache.min_prepare_seconds {
+        let why = format!("prepared in {spent:.2} s, under the {:.1} s worth caching", cache.min_prepare_seconds);
+        return Ok((Prepared::Built { prepared, summary }, CacheOutcome::NotStored { why }, None, load_seconds));
+    }
+    let (cache, job, stored_summary, target) = (cache.clone(), prepared.clone(), summary.clone(), entry.clone());
+    let handle = std::thread::Builder::new()
+        .name("vkrt-cache-store".into())
+        .spawn(move || {
+            let start = Instant::now();
+            match store(&cache, &target, &job, &stored_summary) {
+                Ok(()) => CacheOutcome::Stored { entry: target, seconds: start.elapsed().as_secs_f64() },
+                Err(e) => CacheOutcome::NotStored { why: format!("could not store {}: {e:#}", target.display()) },
             }
-        }
-    };
-    Ok((Prepared::Built { prepared: Box::new(prepared), summary }, outcome, load_seconds))
+        })
+        .context("starting the thread that stores the prepared scene")?;
+    Ok((Prepared::Built { prepared, summary }, CacheOutcome::Storing { entry }, Some(Storing(Some(handle))), load_seconds))
 }
 
 /// The entry name's hash: everything but the input files' bytes that shapes an entry.
