@@ -84,6 +84,15 @@ fn a_cached_scene_renders_the_same_bytes_in_both_integrators_and_any_view() {
         assert!(fresh == first && first == second, "view {i}: a cached render differs from an uncached one");
     }
     assert_eq!(entries(Path::new(&case.cache)).len(), 1, "one scene and one build setting make one entry");
+    // A checkpoint made on a cache hit takes its input hashes from the cache's check: it must be
+    // the checkpoint an uncached run writes, byte for byte (same output and checkpoint names).
+    let ckpt = case.dir.join("run.ckpt").display().to_string();
+    let with_ckpt = ["--integrator", "path", "--spp", "2", "--checkpoint", ckpt.as_str()];
+    case.render("ckpt.exr", &with_ckpt, false);
+    let uncached = std::fs::read(&ckpt).unwrap();
+    let (_, err) = case.render("ckpt.exr", &with_ckpt, true);
+    assert!(err.contains(HIT), "{err}");
+    assert!(std::fs::read(&ckpt).unwrap() == uncached, "a checkpoint written from the cache differs");
     // Another layout is another entry, and the same image.
     let (fresh, _) = case.render("fresh-compact.exr", &["--layout", "compact"], false);
     let (_, err) = case.render("first-compact.exr", &["--layout", "compact"], true);

@@ -400,6 +400,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.verbose {
         report(args, &scene_path, &scene, &prepared, &gpu, &ctx.info, (parse_s, prepare_s, upload_s), &cache_outcome, integrator);
     }
+    // What the cache just checked, for a checkpoint's identity; then the mapping can go.
+    let input_hashes = prepared.input_hashes().map(<[_]>::to_vec);
     drop(prepared);
 
     let mut progress = Progress::new("rendering", args.quiet);
@@ -450,6 +452,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             }
             let run = PathRun {
                 scene: &scene,
+                input_hashes,
                 scene_path: absolute(&scene_path).display().to_string(),
                 sky,
                 camera: camera_numbers(&scene.camera),

@@ -8,7 +8,7 @@ use super::progress::{Progress, Status};
 use super::shard::ShardArgs;
 use crate::gpu::Context;
 use crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED;
-use crate::integrator::path::checkpoint::{hash_inputs, Checkpoint, Identity, ResumeDefaults, RunSettings};
+use crate::integrator::path::checkpoint::{hash_inputs, Checkpoint, Identity, InputHash, ResumeDefaults, RunSettings};
 use crate::integrator::path::shard::{Shard, ShardSet};
 use crate::integrator::path::{self, Accumulation, Hooks, PathProgress, PathSettings, SamplerKind, Stop};
 use crate::integrator::{Image, RenderSettings, RenderStats};
@@ -109,6 +109,9 @@ impl PathArgs {
 pub struct PathRun<'a> {
     /// The scene as loaded: its input files make the run's identity.
     pub scene: &'a SceneSummary,
+    /// Those files' content hashes where they were just checked (a prepared-scene cache hit
+    /// re-hashes every input): the identity reuses them instead of reading every file again.
+    pub input_hashes: Option<Vec<(PathBuf, u64)>>,
     /// The scene file's absolute path (what a checkpoint records).
     pub scene_path: String,
     /// The `--sky` override, as given ("" for the scene's own sky).
@@ -246,7 +249,11 @@ pub fn render(
 ) -> Result<PathOutcome> {
     // Hashing every input costs a read of each file: only runs that save or resume need it.
     let ours = if run.checkpoint.is_some() || run.resume.is_some() {
-        let identity = Identity::Inputs { inputs: hash_inputs(&run.scene.stats.inputs)?, sky: run.sky.clone(), camera: run.camera };
+        let inputs = match &run.input_hashes {
+            Some(known) => known.iter().map(|(p, hash)| InputHash { path: p.display().to_string(), hash: *hash }).collect(),
+            None => hash_inputs(&run.scene.stats.inputs)?,
+        };
+        let identity = Identity::Inputs { inputs, sky: run.sky.clone(), camera: run.camera };
         Some(run_settings(run, identity))
     } else {
         None

@@ -156,6 +156,15 @@ impl Prepared {
         }
     }
 
+    /// The input files with the content hashes the cache checked them against when it opened
+    /// the entry, in `SceneSummary::stats.inputs` order; None for a scene prepared now.
+    pub fn input_hashes(&self) -> Option<&[(PathBuf, u64)]> {
+        match self {
+            Prepared::Built { .. } => None,
+            Prepared::Cached(c) => Some(&c.meta.inputs),
+        }
+    }
+
     /// The prepare stage's times (zero for a cached scene: nothing was built).
     pub fn times(&self) -> PrepareTimes {
         match self {
@@ -311,8 +320,8 @@ impl CachedScene {
             }
         }
         let scene = Self { map, meta };
-        // Every array within the file and aligned for its type (casts below cannot fail then).
-        scene.try_arrays()?;
+        // Every array within the file and aligned for its type.
+        scene.arrays()?;
         Ok(scene)
     }
 
@@ -322,7 +331,8 @@ impl CachedScene {
         bytemuck::try_cast_slice(bytes).map_err(|e| anyhow::anyhow!("its {} are misaligned: {e:?}", ARRAYS[i]))
     }
 
-    fn try_arrays(&self) -> Result<SceneArrays<'_>> {
+    /// The arrays, each checked to lie within the file and be aligned for its type.
+    fn arrays(&self) -> Result<SceneArrays<'_>> {
         if self.meta.arrays.len() != ARRAYS.len() {
             bail!("{} arrays, not {}", self.meta.arrays.len(), ARRAYS.len());
         }
@@ -343,9 +353,6 @@ impl CachedScene {
         })
     }
 
-    fn arrays(&self) -> Result<SceneArrays<'_>> {
-        self.try_arrays()
-    }
 }
 
 /// Writes `prepared` as the entry `entry`: to a temporary file beside it, renamed into place.

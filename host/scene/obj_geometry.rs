@@ -56,7 +56,7 @@ pub struct ObjChunks<'a> {
     chunks: Vec<&'a str>,
     pub census: Vec<Census>,
     /// Per chunk: the global line number of its first line less one, and the counts of
-    /// vertices, texture coordinates, normals and triangles before it.
+    /// vertices, texture coordinates and normals before it.
     first_line: Vec<usize>,
     bases: Vec<[usize; 3]>,
     /// Per chunk: the number of `usemtl` lines before it.

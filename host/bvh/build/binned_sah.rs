@@ -227,14 +227,15 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
         return Bvh::default();
     }
     let threads = config.thread_count();
-    let mut refs = if threads > 1 && n >= PARALLEL_GRAIN {
+    let parallel = threads > 1 && n >= PARALLEL_GRAIN;
+    let mut refs = if parallel {
         in_pool(threads, || prim_refs_parallel(boxes, &matched_centroids(boxes, centroids, n)))
     } else {
         prim_refs(boxes, &matched_centroids(boxes, centroids, n))
     };
     let (root_bounds, root_centroids) = range_bounds(&refs);
     let root = Aabb::from(root_bounds);
-    let nodes = if threads > 1 && n >= PARALLEL_GRAIN {
+    let nodes = if parallel {
         let part = in_pool(threads, || build_part(&mut refs, 0, root, root_centroids, config));
         let mut nodes = Vec::with_capacity(part.node_count());
         nodes.push(Node { bounds: root, kind: NodeKind::Leaf { first: 0, count: 0 } });
