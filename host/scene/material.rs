@@ -31,6 +31,44 @@ pub struct Material {
     /// Index into `Scene::textures` of the texture whose alpha cuts the surface out: `alpha_map`,
     /// or the diffuse texture's own alpha channel. Only set when some texel is see-through.
     pub alpha_texture: Option<u32>,
+    /// Alpha below this is see-through where `alpha_texture` is set (the lab renderer's 0.2 for
+    /// MTL and lab materials; glTF `alphaCutoff` for `MASK`).
+    pub alpha_cutoff: f32,
+    /// glTF `alphaMode: BLEND`: alpha is a coverage probability (stochastic transparency in the
+    /// path tracer) instead of a cut-out.
+    pub alpha_blend: bool,
+    /// glTF 2.0 metallic-roughness parameters (specification, Appendix B); `None` for MTL and
+    /// lab materials, which keep the Kd/Ks/Ns model. With them, `diffuse` is the base colour
+    /// factor (linear) and `diffuse_texture` the base colour texture it multiplies.
+    pub metallic_roughness: Option<MetallicRoughness>,
+    /// Tangent-space normal map (glTF `normalTexture`, MTL `norm`), index into `Scene::textures`
+    /// (linear, not sRGB), and its scale (glTF `normalTexture.scale`).
+    pub normal_texture: Option<u32>,
+    pub normal_scale: f32,
+    /// MTL `norm` / glTF `normalTexture` resolved to a path, loaded with the other textures.
+    pub normal_map: Option<std::path::PathBuf>,
+    /// glTF `emissiveTexture` (sRGB), multiplying `emission`.
+    pub emission_texture: Option<u32>,
+    /// glTF `doubleSided`. Informational: vkrt shades both sides of every surface.
+    pub double_sided: bool,
+}
+
+/// The glTF 2.0 metallic-roughness material parameters besides the base colour.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MetallicRoughness {
+    /// `metallicFactor`, in [0, 1].
+    pub metallic: f32,
+    /// `roughnessFactor` (perceptual roughness; GGX alpha = roughness^2), in [0, 1].
+    pub roughness: f32,
+    /// `metallicRoughnessTexture` (linear; blue = metallic, green = roughness), multiplying the
+    /// factors; index into `Scene::textures`.
+    pub texture: Option<u32>,
+}
+
+impl Default for MetallicRoughness {
+    fn default() -> Self {
+        Self { metallic: 1.0, roughness: 1.0, texture: None }
+    }
 }
 
 impl Default for Material {
@@ -48,6 +86,14 @@ impl Default for Material {
             alpha_map: None,
             diffuse_texture: None,
             alpha_texture: None,
+            alpha_cutoff: 0.2,
+            alpha_blend: false,
+            metallic_roughness: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            normal_map: None,
+            emission_texture: None,
+            double_sided: true,
         }
     }
 }

@@ -19,7 +19,7 @@ pub mod texture;
 pub use camera::Camera;
 pub use light::Light;
 pub use load::load_scene;
-pub use material::Material;
+pub use material::{Material, MetallicRoughness};
 pub use sky::Sky;
 pub use texture::Texture;
 
@@ -73,6 +73,10 @@ pub struct Scene {
     pub cameras: Vec<Camera>,
     /// Constant ambient light added to every surface by the Whitted integrator (lab `AmbientIntensity`).
     pub ambient: Vec3,
+    /// Per-vertex tangents (xyz, and w = +-1 the bitangent's handedness, as glTF's TANGENT),
+    /// by triangle index: empty when no material has a normal map, else one entry per triangle
+    /// (zero where the file has none; `tangents` fills those in with MikkTSpace).
+    pub tangents: Vec<[glam::Vec4; 3]>,
     /// Decoded textures, indexed by `Material::diffuse_texture`/`alpha_texture` and the sky.
     pub textures: Vec<Texture>,
     /// What rays that leave the scene see.

@@ -257,7 +257,6 @@ fn convert_material(m: &tobj::Material, dir: &Path) -> Material {
         illum: m.illumination_model.map_or(d.illum, u32::from),
         diffuse_map: m.diffuse_texture.as_deref().map(|t| texture_path(dir, t)),
         alpha_map: m.dissolve_texture.as_deref().map(|t| texture_path(dir, t)),
-        diffuse_texture: None,
-        alpha_texture: None,
+        ..d
     }
 }
