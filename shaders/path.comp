@@ -129,8 +129,12 @@ void main() {
     for (uint k = 0u; k < samples.y; k++) {
         uint sample_index = samples.x + k;
         Sampler smp = sampler_init(params.sampler_kind, key, sample_index, frame.seed, params.sample_rate);
-        vec3 dir = camera_ray_direction(frame, vec2(pixel) + sampler_pixel(smp));
-        vec3 c = radiance(frame.cam_origin, dir, smp, rays);
+        vec2 xy = vec2(pixel) + sampler_pixel(smp);
+        vec3 origin = frame.cam_origin;
+        vec3 dir;
+        if (camera_has_lens(frame)) camera_lens_ray(frame, xy, sampler_2d(smp), origin, dir);
+        else dir = camera_ray_direction(frame, xy);
+        vec3 c = radiance(origin, dir, smp, rays);
         // NaN, Inf and samples past the fixed-point range never enter the sums: count them.
         // (Radiance is never negative; max() only keeps a -0.0 from the conversion.)
         if (any(isnan(c)) || any(isinf(c)) || max3(c) >= exp2(float(ACCUM_MAX_SAMPLE_LOG2))) {

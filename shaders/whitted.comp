@@ -163,12 +163,19 @@ void main() {
     for (uint k = 0u; k < push.sample_count; k++) {
         uint sample_index = push.sample_base + k;
         vec2 jitter = vec2(0.5);
+        // One sample per pixel looks through the pixel's centre and the lens's centre (a thin
+        // lens then renders as a pinhole); more jitter both.
+        vec2 lens = vec2(0.5);
         if (push.total_spp > 1u) {
             Rng rng = rng_init(index, sample_index, frame.seed);
             jitter = vec2(rng_next(rng), rng_next(rng));
+            if (camera_has_lens(frame)) lens = vec2(rng_next(rng), rng_next(rng));
         }
-        vec3 dir = camera_ray_direction(frame, vec2(pixel) + jitter);
-        vec3 c = whitted(frame.cam_origin, dir);
+        vec3 origin = frame.cam_origin;
+        vec3 dir;
+        if (camera_has_lens(frame)) camera_lens_ray(frame, vec2(pixel) + jitter, lens, origin, dir);
+        else dir = camera_ray_direction(frame, vec2(pixel) + jitter);
+        vec3 c = whitted(origin, dir);
         // NaN and Inf never enter the accumulation buffer: count them instead.
         if (any(isnan(c)) || any(isinf(c))) dropped += 1.0;
         else sum += c;

@@ -111,7 +111,8 @@ fn lab_cornell_box() {
             eye: Vec3::new(278.0, 273.0, -800.0),
             target: Vec3::new(278.0, 273.0, 0.0),
             up: Vec3::Y,
-            fov_y_deg: 39.307_648
+            fov_y_deg: 39.307_648,
+            ..Camera::default()
         }
     );
     assert_eq!(

@@ -28,7 +28,7 @@ fn furnace(extra: Vec<vkrt::scene::Triangle>, extra_materials: Vec<Material>) ->
     Scene {
         triangles,
         materials,
-        camera: Camera { eye: Vec3::new(0.0, 0.0, 6.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 60.0 },
+        camera: Camera { eye: Vec3::new(0.0, 0.0, 6.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 60.0, ..Camera::default() },
         ..Scene::default()
     }
 }
@@ -111,7 +111,7 @@ fn floor_scene(light: Light) -> Scene {
         triangles: quad(Vec3::new(-50.0, -50.0, 0.0), Vec3::new(100.0, 0.0, 0.0), Vec3::new(0.0, 100.0, 0.0), 0).to_vec(),
         materials: vec![floor],
         lights: vec![light],
-        camera: Camera { eye: Vec3::new(0.0, 0.0, 10.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0 },
+        camera: Camera { eye: Vec3::new(0.0, 0.0, 10.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0, ..Camera::default() },
         ..Scene::default()
     }
 }
@@ -179,7 +179,7 @@ fn unequal_emitters_converge_to_the_same_image_with_and_without_light_sampling()
     let scene = Scene {
         triangles,
         materials: vec![floor, light("wide", Vec3::new(1.0, 0.8, 0.6)), light("small", Vec3::new(30.0, 30.0, 30.0)), light("blue", Vec3::new(0.5, 1.0, 3.0))],
-        camera: Camera { eye: Vec3::new(0.0, 6.0, 5.0), target: Vec3::new(0.0, 0.0, 0.0), up: Vec3::Y, fov_y_deg: 60.0 },
+        camera: Camera { eye: Vec3::new(0.0, 6.0, 5.0), target: Vec3::new(0.0, 0.0, 0.0), up: Vec3::Y, fov_y_deg: 60.0, ..Camera::default() },
         ..Scene::default()
     };
     let nee = common::render_path(&scene, &common::path_settings(48, 48, 256));

@@ -239,7 +239,7 @@ fn sphere_on_plane() -> Scene {
             Light::Point { position: Vec3::new(2.0, 4.0, 3.0), intensity: Vec3::splat(12.0) },
             Light::Directional { direction: Vec3::new(grazing.sin(), grazing.cos(), 0.0), intensity: Vec3::splat(1.0) },
         ],
-        camera: Camera { eye: Vec3::new(0.0, 3.0, 6.0), target: Vec3::new(0.0, 0.8, 0.0), up: Vec3::Y, fov_y_deg: 45.0 },
+        camera: Camera { eye: Vec3::new(0.0, 3.0, 6.0), target: Vec3::new(0.0, 0.8, 0.0), up: Vec3::Y, fov_y_deg: 45.0, ..Camera::default() },
         ambient: Vec3::splat(0.02),
         ..Scene::default()
     }
@@ -280,7 +280,7 @@ fn grazing_sun_lights_a_plane_evenly() {
         triangles: common::procedural::quad(Vec3::new(-1.0, 0.0, 1.0), Vec3::X * 2.0, Vec3::Z * -2.0, 0).to_vec(),
         materials: vec![Material { name: "plane".into(), diffuse: Vec3::splat(kd), ..Material::default() }],
         lights: vec![Light::Directional { direction: Vec3::new(grazing.sin(), grazing.cos(), 0.0), intensity: Vec3::ONE }],
-        camera: Camera { eye: Vec3::new(0.0, 1.5, 0.0), target: Vec3::ZERO, up: -Vec3::Z, fov_y_deg: 50.0 },
+        camera: Camera { eye: Vec3::new(0.0, 1.5, 0.0), target: Vec3::ZERO, up: -Vec3::Z, fov_y_deg: 50.0, ..Camera::default() },
         ..Scene::default()
     };
     for (s, o) in [(1.0f32, Vec3::ZERO), (1e-4, Vec3::ZERO), (1e5, Vec3::ZERO), (10.0, Vec3::new(1e4, -5e3, 2e4))] {

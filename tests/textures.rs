@@ -27,7 +27,7 @@ fn uv_quad(p0: Vec3, e1: Vec3, e2: Vec3, uv0: Vec2, uv_scale: Vec2, material: u3
 }
 
 fn front_camera() -> Camera {
-    Camera { eye: Vec3::new(0.0, 0.0, 1.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 90.0 }
+    Camera { eye: Vec3::new(0.0, 0.0, 1.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 90.0, ..Camera::default() }
 }
 
 /// An unlit scene: ambient 1 and no lights, so Whitted shows each surface's albedo.
@@ -245,7 +245,7 @@ fn sky_scene(dir: Vec3, up: Vec3) -> Scene {
         materials: vec![Material::default()],
         textures: cube_faces(),
         sky: Sky::CubeMap { first_texture: 0, scale: Vec3::ONE },
-        camera: Camera { eye: Vec3::ZERO, target: dir, up, fov_y_deg: 90.0 },
+        camera: Camera { eye: Vec3::ZERO, target: dir, up, fov_y_deg: 90.0, ..Camera::default() },
         ..Scene::default()
     }
 }

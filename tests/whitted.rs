@@ -60,7 +60,7 @@ fn point_light_lights_the_floor_and_an_occluder_casts_a_hard_shadow() {
     // Floor y = 0 (Kd 0.5), point light of intensity 1 one unit above the origin; the camera
     // looks at the origin from the side, so an occluder over the origin is out of its view.
     let floor = Material { name: "floor".into(), diffuse: Vec3::splat(0.5), ..Material::default() };
-    let camera = Camera { eye: Vec3::new(0.0, 1.0, 2.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 30.0 };
+    let camera = Camera { eye: Vec3::new(0.0, 1.0, 2.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 30.0, ..Camera::default() };
     let light = Light::Point { position: Vec3::Y, intensity: Vec3::ONE };
     let mut tris: Vec<Triangle> = quad(Vec3::new(-2.0, 0.0, 2.0), Vec3::X * 4.0, Vec3::Z * -4.0, 0).to_vec();
     let lit = centre_pixel(&scene(tris.clone(), vec![floor.clone()], camera, vec![light]), 7);
@@ -87,7 +87,7 @@ fn mirror_reflects_the_emitter_behind_the_camera_weighted_by_ks() {
         ..Material::default()
     };
     let le = Vec3::new(1.0, 0.5, 0.25);
-    let camera = Camera { eye: Vec3::ZERO, target: -Vec3::Z, up: Vec3::Y, fov_y_deg: 20.0 };
+    let camera = Camera { eye: Vec3::ZERO, target: -Vec3::Z, up: Vec3::Y, fov_y_deg: 20.0, ..Camera::default() };
     let mirror_quad = quad(Vec3::new(-1.0, -1.0, -1.0), Vec3::X * 2.0, Vec3::Y * 2.0, 0);
     // Facing -z (toward the mirror): u x v = Y x X = -Z.
     let facing = quad(Vec3::new(-1.0, -1.0, 1.0), Vec3::Y * 2.0, Vec3::X * 2.0, 1);
@@ -108,7 +108,7 @@ fn glass_slab_transmits_by_fresnel_at_normal_incidence() {
     // Camera looking down -z through a glass slab (n = 1.5) at an emitter of radiance 1.
     // At normal incidence each interface reflects F = ((n-1)/(n+1))^2 = 0.04 and transmits 0.96.
     let glass = Material { name: "glass".into(), diffuse: Vec3::ZERO, ior: 1.5, illum: 7, ..Material::default() };
-    let camera = Camera { eye: Vec3::new(0.0, 0.0, 1.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0 };
+    let camera = Camera { eye: Vec3::new(0.0, 0.0, 1.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0, ..Camera::default() };
     let mut tris = boxed(Vec3::new(-1.0, -1.0, -2.0), Vec3::new(1.0, 1.0, -1.0), 0);
     // Emitter at z = -3 facing +z (toward the camera).
     tris.extend(quad(Vec3::new(-4.0, -4.0, -3.0), Vec3::X * 8.0, Vec3::Y * 8.0, 1));

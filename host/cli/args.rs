@@ -43,6 +43,14 @@ pub fn fov(s: &str) -> Result<f32, String> {
     }
 }
 
+/// A finite number of at least 0 (`--aperture`, `--focus-distance`).
+pub fn non_negative(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!("must be a number of at least 0, not '{}'", s.trim())),
+    }
+}
+
 /// Three finite numbers `X,Y,Z` (`--eye`, `--target`, `--up`).
 pub fn vec3(s: &str) -> Result<Vec3, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();

@@ -4,7 +4,7 @@
 //! beyond what the device and the machine can hold, an unwritable output. A resumed path-traced
 //! run takes its scene, size, camera and sampling settings from its checkpoint.
 
-use super::args::{at_least_one, exposure, fov, vec3, whole};
+use super::args::{at_least_one, exposure, fov, non_negative, vec3, whole};
 use super::progress::{Progress, Status};
 use super::render_path::{self, PathArgs, PathRun};
 use super::shard;
@@ -14,11 +14,12 @@ use super::DeviceArgs;
 use crate::accel::LayoutKind;
 use crate::bvh::{BuildConfig, BuilderKind};
 use crate::gpu::DeviceInfo;
-use crate::integrator::path::checkpoint::{camera_flags, Checkpoint, Identity};
+use crate::integrator::path::checkpoint::{camera_flags, Checkpoint, Identity, CAMERA_NUMBERS};
 use crate::integrator::{whitted, Image, RenderSettings};
 use crate::output::display::{Display, Exposure, Tonemap};
 use crate::prepare::cache::{prepare_scene, Cache, CacheOutcome, Prepared, Storing};
 use crate::prepare::{Features, GpuScene, PrepareOptions};
+use crate::scene::camera::Lens;
 use crate::scene::{Camera, SceneSummary};
 use crate::{output, scene};
 use anyhow::{bail, Context as _, Result};
@@ -146,6 +147,13 @@ pub struct CameraArgs {
     /// Vertical field of view in degrees.
     #[arg(long, value_parser = fov, value_name = "DEGREES")]
     pub fov: Option<f32>,
+    /// Thin-lens depth of field: the aperture's radius in scene units [default: 0, a pinhole].
+    /// The Whitted integrator blurs only with --spp above 1.
+    #[arg(long, value_parser = non_negative, value_name = "R")]
+    pub aperture: Option<f32>,
+    /// Distance from the eye to the plane in focus [default: the distance to the target].
+    #[arg(long, value_parser = non_negative, value_name = "D")]
+    pub focus_distance: Option<f32>,
 }
 
 /// How the image becomes an 8-bit picture (PNG outputs and previews; float outputs stay
@@ -170,13 +178,20 @@ impl DisplayArgs {
     }
 }
 
-/// A camera as the ten numbers a checkpoint stores.
-fn camera_numbers(c: &Camera) -> [f32; 10] {
-    [c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fov_y_deg]
+/// A camera as the numbers a checkpoint stores.
+fn camera_numbers(c: &Camera) -> [f32; CAMERA_NUMBERS] {
+    let (l, t, u) = (c.lens, c.target, c.up);
+    [c.eye.x, c.eye.y, c.eye.z, t.x, t.y, t.z, u.x, u.y, u.z, c.fov_y_deg, l.aperture_radius, l.focus_distance]
 }
 
-fn camera_from(n: &[f32; 10]) -> Camera {
-    Camera { eye: Vec3::new(n[0], n[1], n[2]), target: Vec3::new(n[3], n[4], n[5]), up: Vec3::new(n[6], n[7], n[8]), fov_y_deg: n[9] }
+fn camera_from(n: &[f32; CAMERA_NUMBERS]) -> Camera {
+    Camera {
+        eye: Vec3::new(n[0], n[1], n[2]),
+        target: Vec3::new(n[3], n[4], n[5]),
+        up: Vec3::new(n[6], n[7], n[8]),
+        fov_y_deg: n[9],
+        lens: Lens { aperture_radius: n[10], focus_distance: n[11] },
+    }
 }
 
 impl CameraArgs {
@@ -198,6 +213,8 @@ impl CameraArgs {
         cam.target = self.target.unwrap_or(cam.target);
         cam.up = self.up.unwrap_or(cam.up);
         cam.fov_y_deg = self.fov.unwrap_or(cam.fov_y_deg);
+        cam.lens.aperture_radius = self.aperture.unwrap_or(cam.lens.aperture_radius);
+        cam.lens.focus_distance = self.focus_distance.unwrap_or(cam.lens.focus_distance);
         cam.frame().with_context(|| format!("the camera {} cannot render", camera_flags(&camera_numbers(&cam))))?;
         Ok(cam)
     }

@@ -117,7 +117,7 @@ pub struct PathRun<'a> {
     /// The `--sky` override, as given ("" for the scene's own sky).
     pub sky: String,
     /// The camera used: eye, target, up, vertical field of view.
-    pub camera: [f32; 10],
+    pub camera: [f32; crate::integrator::path::checkpoint::CAMERA_NUMBERS],
     pub settings: PathSettings,
     pub seed: u32,
     /// The output image's absolute path, and the builder and layout names (for a checkpoint).

@@ -26,6 +26,12 @@ gpu_structs! {
         /// First of the six cube-map faces (+x, -x, +y, -y, +z, -z) in the texture table, or
         /// `TEXTURE_NONE` for a constant sky.
         pub sky_texture: u32,
+        /// The thin lens (`crate::scene::camera::Lens`): aperture radius (0: a pinhole) and the
+        /// distance to the plane in focus.
+        pub aperture_radius: f32,
+        pub focus_distance: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
     }
 
     /// Per-dispatch values (push constants): which tile and which samples this dispatch renders.
@@ -106,7 +112,7 @@ gpu_structs! {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<GpuFrame>() == 112);
+const _: () = assert!(std::mem::size_of::<GpuFrame>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuPush>() == 64);
 const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 48);
 const _: () = assert!(std::mem::size_of::<GpuRay>() == 32);

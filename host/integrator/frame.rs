@@ -30,6 +30,10 @@ pub fn frame_for(scene: &GpuScene, settings: &RenderSettings) -> Result<GpuFrame
         scene_scale: info.scale,
         sky_color: info.sky_color,
         sky_texture: info.sky_texture,
+        aperture_radius: cam.aperture_radius,
+        focus_distance: cam.focus_distance,
+        _pad0: 0,
+        _pad1: 0,
     })
 }
 

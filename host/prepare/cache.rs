@@ -601,7 +601,7 @@ impl Reader<'_> {
         (0..self.count(8)?).map(|_| self.str()).collect()
     }
     fn camera(&mut self) -> Result<Camera> {
-        Ok(Camera { eye: self.vec3()?, target: self.vec3()?, up: self.vec3()?, fov_y_deg: self.f32()? })
+        Ok(Camera { eye: self.vec3()?, target: self.vec3()?, up: self.vec3()?, fov_y_deg: self.f32()?, ..Camera::default() })
     }
 
     fn meta(mut self) -> Result<Meta> {

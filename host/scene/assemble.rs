@@ -79,7 +79,7 @@ pub fn default_camera(scene: &Scene) -> Camera {
     let centre = bounds.center();
     let e = bounds.extent();
     let along = if e.x >= e.z { Vec3::X } else { Vec3::Z };
-    Camera { eye: centre, target: centre + along * e.max_element(), up: Vec3::Y, fov_y_deg: ROOM_FOV_DEG }
+    Camera { eye: centre, target: centre + along * e.max_element(), up: Vec3::Y, fov_y_deg: ROOM_FOV_DEG, ..Camera::default() }
 }
 
 /// Vertical field of view of the default camera inside a room: wide, as architecture is shot.

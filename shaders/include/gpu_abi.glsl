@@ -122,6 +122,10 @@ struct GpuFrame {
     float scene_scale;
     vec3 sky_color;
     uint sky_texture;
+    float aperture_radius;
+    float focus_distance;
+    uint _pad0;
+    uint _pad1;
 };
 
 struct GpuPush {

@@ -34,9 +34,9 @@ vec3 to_world(Onb f, vec3 v) {
     return v.x * f.t + v.y * f.b + v.z * f.n;
 }
 
-// Cosine-weighted hemisphere around +z, pdf cos(theta)/pi: Malley's method on Shirley and
-// Chiu's concentric disk map (1997), which keeps strata compact for low-discrepancy input.
-vec3 sample_cosine_hemisphere(vec2 u) {
+// The unit square onto the unit disc, keeping areas and strata compact (Shirley and Chiu 1997,
+// "A low distortion map between disk and square"). CPU twin: scene::camera::concentric_disk.
+vec2 concentric_disk(vec2 u) {
     vec2 o = 2.0 * u - 1.0;
     vec2 d = vec2(0.0);
     if (o.x != 0.0 || o.y != 0.0) {
@@ -51,6 +51,13 @@ vec3 sample_cosine_hemisphere(vec2 u) {
         }
         d = r * vec2(cos(phi), sin(phi));
     }
+    return d;
+}
+
+// Cosine-weighted hemisphere around +z, pdf cos(theta)/pi: Malley's method on the concentric
+// disk map, which keeps strata compact for low-discrepancy input.
+vec3 sample_cosine_hemisphere(vec2 u) {
+    vec2 d = concentric_disk(u);
     return vec3(d, sqrt(max(0.0, 1.0 - dot(d, d))));
 }
 

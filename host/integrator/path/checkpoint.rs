@@ -28,7 +28,12 @@ use anyhow::{bail, Context as _, Result};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"VKRTCKPT";
-const VERSION: u32 = 5;
+const VERSION: u32 = 6;
+/// The last format whose camera had no lens (ten numbers; read as a pinhole).
+const VERSION_BEFORE_LENS: u32 = 5;
+/// Numbers a checkpoint stores for the camera: eye, target, up, vertical field of view in
+/// degrees, aperture radius, focus distance.
+pub const CAMERA_NUMBERS: usize = 12;
 /// The last format with float sums and no shards (still read).
 const VERSION_BEFORE_FIXED: u32 = 4;
 /// The format before `coherence` was stored (still read, as coherence 1).
@@ -50,9 +55,9 @@ pub struct InputHash {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Identity {
     /// Every input file's content, the `--sky` override ("" for the scene's own sky) and the
-    /// camera the run used (eye, target, up, vertical field of view in degrees: after any
-    /// `--camera`, `--eye`... choice).
-    Inputs { inputs: Vec<InputHash>, sky: String, camera: [f32; 10] },
+    /// camera the run used (eye, target, up, vertical field of view in degrees, aperture
+    /// radius and focus distance: after any `--camera`, `--eye`... choice).
+    Inputs { inputs: Vec<InputHash>, sky: String, camera: [f32; CAMERA_NUMBERS] },
     /// A checkpoint from before format 4: only the FNV-1a hash of the scene file itself.
     SceneFile { fnv: u64 },
 }
@@ -195,9 +200,15 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
 }
 
-/// A camera `[eye, target, up, fov]` in `vkrt render`'s own flags.
-pub fn camera_flags(c: &[f32; 10]) -> String {
-    format!("--eye {},{},{} --target {},{},{} --up {},{},{} --fov {}", c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9])
+/// A camera `[eye, target, up, fov, aperture, focus]` in `vkrt render`'s own flags (the lens
+/// flags only for a thin lens).
+pub fn camera_flags(c: &[f32; CAMERA_NUMBERS]) -> String {
+    let mut s =
+        format!("--eye {},{},{} --target {},{},{} --up {},{},{} --fov {}", c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9]);
+    if c[10] > 0.0 {
+        s += &format!(" --aperture {} --focus-distance {}", c[10], c[11]);
+    }
+    s
 }
 
 /// The FNV-1a hash of a file's content: the identity checkpoints before format 4 stored.
@@ -434,8 +445,10 @@ impl Checkpoint {
             let inputs = (0..n)
                 .map(|_| Ok(InputHash { path: r.string("input path")?, hash: r.u64("input hash")? }))
                 .collect::<Result<Vec<_>>>()?;
-            let mut camera = [0.0f32; 10];
-            for c in &mut camera {
+            // Formats before the lens stored ten numbers: a pinhole.
+            let stored = if version > VERSION_BEFORE_LENS { CAMERA_NUMBERS } else { 10 };
+            let mut camera = [0.0f32; CAMERA_NUMBERS];
+            for c in &mut camera[..stored] {
                 *c = f32::from_bits(r.u32("camera")?);
             }
             Identity::Inputs { inputs, sky, camera }
@@ -549,7 +562,7 @@ mod tests {
             identity: Identity::Inputs {
                 inputs: vec![InputHash { path: "a.yaml".into(), hash: 42 }, InputHash { path: "a.obj".into(), hash: 43 }],
                 sky: String::new(),
-                camera: [0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 45.0],
+                camera: [0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 45.0, 0.0, 0.0],
             },
             width: 3,
             height: 2,
