@@ -58,8 +58,15 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
         rays++;
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) {
-            // No light sampling picks the sky, so BSDF sampling gets it all (MIS weight 1).
-            if (HAS_SKY) result += throughput * sky_radiance(dir);
+            if (HAS_ENVMAP) {
+                // Light sampling picks the map too: weigh the two by the power heuristic.
+                float w = 1.0;
+                if (nee && !prev_delta) w = power_heuristic(prev_pdf, frame.env_pick_pmf * env_pdf(dir));
+                result += throughput * env_radiance(dir) * w;
+            } else if (HAS_SKY) {
+                // No light sampling picks the sky, so BSDF sampling gets it all (MIS weight 1).
+                result += throughput * sky_radiance(dir);
+            }
             break;
         }
         Surface s = surface_at(h, dir);

@@ -9,6 +9,7 @@
 #include "scene_bindings.glsl"
 #include "features.glsl"
 #include "texture.glsl"
+#include "environment.glsl"
 #include "traverse.glsl"
 #include "rng.glsl"
 #include "camera.glsl"
@@ -123,7 +124,8 @@ vec3 whitted(vec3 origin, vec3 dir) {
         Task task = stack[--sp];
         Hit h = trace_closest(task.origin, task.dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) {
-            if (HAS_SKY) color += task.weight * sky_radiance(task.dir);
+            if (HAS_ENVMAP) color += task.weight * env_radiance(task.dir);
+            else if (HAS_SKY) color += task.weight * sky_radiance(task.dir);
             continue;
         }
         Surface s = surface_at(h, task.dir);

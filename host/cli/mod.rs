@@ -10,6 +10,7 @@ pub mod merge;
 pub mod progress;
 pub mod rays;
 pub mod shard;
+pub mod sky;
 pub mod render;
 pub mod render_path;
 pub mod trace;

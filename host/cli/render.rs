@@ -21,7 +21,7 @@ use crate::prepare::cache::{prepare_scene, Cache, CacheOutcome, Prepared, Storin
 use crate::prepare::{Features, GpuScene, PrepareOptions};
 use crate::scene::camera::Lens;
 use crate::scene::{Camera, SceneSummary};
-use crate::{output, scene};
+use crate::output;
 use anyhow::{bail, Context as _, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
@@ -97,6 +97,8 @@ pub struct RenderArgs {
     /// sky box if it has one, else black.
     #[arg(long, value_name = "R,G,B")]
     pub sky: Option<String>,
+    #[command(flatten)]
+    pub envmap: super::sky::EnvmapArgs,
     /// Run the all-features shader instead of the variant specialised to what the scene uses
     /// (same image, slower; for comparisons and benchmarks).
     #[arg(long)]
@@ -405,14 +407,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(Identity::Inputs { sky, camera, .. }) => (Some(sky.clone()), Some(camera_from(camera))),
         _ => (None, None),
     };
-    let sky = args.sky.clone().or(stored_sky).unwrap_or_default();
-    if !sky.is_empty() {
-        scene.sky = scene::Sky::parse_constant(&sky)?;
-    }
+    let sky = super::sky::sky_text(&args.sky, &args.envmap, stored_sky)?;
+    let env = super::sky::apply(&sky, &mut scene)?;
     scene.camera = args.camera.choose(&scene, stored_camera.unwrap_or(scene.camera))?;
     let info = prepared.info().with_view(&scene.camera, &scene.sky);
     let t1 = Instant::now();
-    let gpu = GpuScene::upload_arrays(&ctx, &prepared.arrays()?, &info)?;
+    let arrays = prepared.arrays()?;
+    let mut gpu = GpuScene::upload_arrays(&ctx, &arrays, &info)?;
+    if let Some(env) = &env {
+        gpu.set_environment(&ctx, env, arrays.picks, arrays.total_weight, scene.stats.default_light)?;
+    }
     let upload_s = t1.elapsed().as_secs_f64();
     if args.verbose {
         report(args, &scene_path, &scene, &prepared, &gpu, &ctx.info, (parse_s, prepare_s, upload_s), &cache_outcome, integrator);

@@ -71,6 +71,13 @@ shared_constants! {
     BINDING_SUM_ODD_G = 32;
     BINDING_SUM_ODD_B = 33;
     BINDING_SAMPLE_COUNTS = 34;
+    /// The environment map (`--envmap`; `crate::prepare::envmap`): its radiance, one RGBA32F
+    /// texel per map texel (as RGBA32UI bits; alpha unused), row 0 the top row...
+    BINDING_ENV_TEXELS = 36;
+    /// ... and its sampling distribution, floats as R32UI bits: the marginal CDF over the
+    /// H - 1 rows of cells (H entries), then each row's conditional CDF over its W cells
+    /// (W + 1 entries each).
+    BINDING_ENV_CDF = 37;
     /// Fractional bits of those sums: a sample's radiance c >= 0 adds round(c 2^24). Integer
     /// sums are exact and the same in any order, so a run split into batches, resumed runs and
     /// merged shards give the same bytes as one run. Quantum 6e-8; a pixel's sum holds up to
@@ -118,6 +125,7 @@ shared_constants! {
     SPEC_HAS_DIRECTIONAL = 7;
     SPEC_HAS_SPOT = 8;
     SPEC_HAS_SKY = 9;
+    SPEC_HAS_ENVMAP = 16;
 
     /// Light kinds (`GpuLight::kind`).
     LIGHT_POINT = 0;

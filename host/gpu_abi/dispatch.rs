@@ -30,8 +30,15 @@ gpu_structs! {
         /// distance to the plane in focus.
         pub aperture_radius: f32,
         pub focus_distance: f32,
+        /// The environment map (`crate::prepare::envmap`): its size in texels (0: none), the
+        /// cosine and sine of its rotation about +y, and the probability that light sampling
+        /// picks it (the light table's last entry).
+        pub env_width: u32,
+        pub env_height: u32,
+        pub env_rotation_cos: f32,
+        pub env_rotation_sin: f32,
+        pub env_pick_pmf: f32,
         pub _pad0: u32,
-        pub _pad1: u32,
     }
 
     /// Per-dispatch values (push constants): which tile and which samples this dispatch renders.
@@ -112,7 +119,7 @@ gpu_structs! {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<GpuFrame>() == 128);
+const _: () = assert!(std::mem::size_of::<GpuFrame>() == 144);
 const _: () = assert!(std::mem::size_of::<GpuPush>() == 64);
 const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 48);
 const _: () = assert!(std::mem::size_of::<GpuRay>() == 32);

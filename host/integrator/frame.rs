@@ -22,7 +22,10 @@ pub fn frame_for(scene: &GpuScene, settings: &RenderSettings) -> Result<GpuFrame
         width: settings.width,
         cam_up: cam.up.to_array(),
         height: settings.height,
-        ambient: info.ambient.to_array(),
+        // The Whitted integrator's light from an environment map: its mean radiance as ambient
+        // light (unshadowed; what a Lambert surface under a uniform sky of that radiance
+        // reflects, times Kd). The path tracer never reads the ambient term.
+        ambient: (info.ambient + scene.env_ambient).to_array(),
         max_depth: settings.max_depth,
         light_count: scene.light_count,
         emitter_count: scene.emitter_count,
@@ -32,8 +35,12 @@ pub fn frame_for(scene: &GpuScene, settings: &RenderSettings) -> Result<GpuFrame
         sky_texture: info.sky_texture,
         aperture_radius: cam.aperture_radius,
         focus_distance: cam.focus_distance,
+        env_width: scene.env.width,
+        env_height: scene.env.height,
+        env_rotation_cos: scene.env.rotation_cos,
+        env_rotation_sin: scene.env.rotation_sin,
+        env_pick_pmf: scene.env_pick_pmf,
         _pad0: 0,
-        _pad1: 0,
     })
 }
 
@@ -49,5 +56,7 @@ pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_TEXTURES, BindingKind::Texels),
     (BINDING_TEXELS, BindingKind::Texels),
     (BINDING_UVS, BindingKind::Texels),
+    (BINDING_ENV_TEXELS, BindingKind::Texels),
+    (BINDING_ENV_CDF, BindingKind::Texels),
     (BINDING_FRAME, BindingKind::Uniform),
 ];

@@ -32,7 +32,7 @@ use std::time::Instant;
 use xxhash_rust::xxh3::{xxh3_128, Xxh3};
 
 /// Bumped whenever the file layout or the meaning of a stored array changes.
-pub const CACHE_FORMAT: u32 = 1;
+pub const CACHE_FORMAT: u32 = 2;
 const MAGIC: &[u8; 8] = b"VKRTPREP";
 const HEADER_BYTES: usize = 64;
 /// Arrays start at multiples of this: every GPU struct's alignment divides it.
@@ -485,6 +485,13 @@ fn encode(m: &Meta) -> Vec<u8> {
             w.u32(first_texture);
             w.vec3(scale);
         }
+        // Scene files have no environment map (it comes from the command line), but the
+        // summary can hold one.
+        Sky::Environment { scale, rotation_deg } => {
+            w.u32(3);
+            w.f32(scale);
+            w.f32(rotation_deg);
+        }
     }
     w.u64(s.stats.dropped_degenerate as u64);
     w.strs(&s.stats.warnings);
@@ -493,6 +500,7 @@ fn encode(m: &Meta) -> Vec<u8> {
         w.str(&p.to_string_lossy());
     }
     w.u32(s.stats.interior as u32);
+    w.u32(s.stats.default_light as u32);
     for n in [s.triangles, s.materials, s.lights] {
         w.u64(n as u64);
     }
@@ -614,12 +622,14 @@ impl Reader<'_> {
             0 => Sky::None,
             1 => Sky::Constant(self.vec3()?),
             2 => Sky::CubeMap { first_texture: self.u32()?, scale: self.vec3()? },
+            3 => Sky::Environment { scale: self.f32()?, rotation_deg: self.f32()? },
             other => bail!("unknown sky kind {other}"),
         };
         let dropped_degenerate = self.u64()? as usize;
         let warnings = self.strs()?;
         let stat_inputs = (0..self.count(8)?).map(|_| Ok(PathBuf::from(self.str()?))).collect::<Result<Vec<_>>>()?;
         let interior = self.u32()? != 0;
+        let default_light = self.u32()? != 0;
         let (triangles, materials, lights) = (self.u64()? as usize, self.u64()? as usize, self.u64()? as usize);
         let bounds = Aabb { min: self.vec3()?, max: self.vec3()? };
         let mut entries = Vec::new();
@@ -642,7 +652,7 @@ impl Reader<'_> {
                 cameras,
                 ambient,
                 sky,
-                stats: LoadStats { dropped_degenerate, warnings, inputs: stat_inputs, interior },
+                stats: LoadStats { dropped_degenerate, warnings, inputs: stat_inputs, interior, default_light },
                 triangles,
                 materials,
                 lights,
@@ -696,7 +706,7 @@ mod tests {
                 cameras: vec![Camera::default(), Camera { fov_y_deg: 30.0, ..Camera::default() }],
                 ambient: Vec3::new(0.1, 0.2, 0.3),
                 sky: Sky::CubeMap { first_texture: 3, scale: Vec3::ONE },
-                stats: LoadStats { dropped_degenerate: 5, warnings: vec!["w".into()], inputs: vec!["/a/b.obj".into()], interior: true },
+                stats: LoadStats { dropped_degenerate: 5, warnings: vec!["w".into()], inputs: vec!["/a/b.obj".into()], interior: true, default_light: true },
                 triangles: 10,
                 materials: 2,
                 lights: 1,

@@ -21,8 +21,9 @@ pub const POINT: Feature = Feature { name: "point lights", spec_id: SPEC_HAS_POI
 pub const DIRECTIONAL: Feature = Feature { name: "directional lights", spec_id: SPEC_HAS_DIRECTIONAL };
 pub const SPOT: Feature = Feature { name: "spot lights", spec_id: SPEC_HAS_SPOT };
 pub const SKY: Feature = Feature { name: "sky", spec_id: SPEC_HAS_SKY };
+pub const ENVMAP: Feature = Feature { name: "environment map", spec_id: SPEC_HAS_ENVMAP };
 
-pub const ALL: [Feature; 10] = [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY];
+pub const ALL: [Feature; 11] = [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP];
 
 /// Which features a scene uses, each with the reason (for `--verbose`).
 #[derive(Debug, Clone, PartialEq)]
@@ -75,16 +76,19 @@ impl Features {
             (DIRECTIONAL, count_lights(&|l| matches!(l, Light::Directional { .. }), "directional lights")),
             (SPOT, count_lights(&|l| matches!(l, Light::Spot { .. }), "spot lights")),
             (SKY, sky_use(&scene.sky)),
+            (ENVMAP, envmap_use(&scene.sky)),
         ];
         Self { entries: entries.into_iter().map(|(f, (on, w))| (f, on, w)).collect() }
     }
 
-    /// The same with the sky feature worked out for `sky` instead (`--sky` replaces a scene's
-    /// sky after it was prepared, or loaded from the cache).
+    /// The same with the sky and environment-map features worked out for `sky` instead
+    /// (`--sky` and `--envmap` replace a scene's sky after it was prepared, or loaded from the
+    /// cache).
     pub fn with_sky(mut self, sky: &Sky) -> Self {
-        let (on, why) = sky_use(sky);
-        for entry in self.entries.iter_mut().filter(|e| e.0 == SKY) {
-            (entry.1, entry.2) = (on, why.clone());
+        for (feature, (on, why)) in [(SKY, sky_use(sky)), (ENVMAP, envmap_use(sky))] {
+            for entry in self.entries.iter_mut().filter(|e| e.0 == feature) {
+                (entry.1, entry.2) = (on, why.clone());
+            }
         }
         self
     }
@@ -117,5 +121,17 @@ fn sky_use(sky: &Sky) -> (bool, String) {
         Sky::Constant(c) if c.max_element() <= 0.0 => (false, "black sky".to_string()),
         Sky::Constant(c) => (true, format!("constant sky {c}")),
         Sky::CubeMap { .. } => (true, "cube-map sky box".to_string()),
+        Sky::Environment { .. } => (false, "an environment map instead".to_string()),
+    }
+}
+
+/// Whether the sky is an environment map (looked up and, in the path tracer, sampled as a light).
+fn envmap_use(sky: &Sky) -> (bool, String) {
+    match sky {
+        Sky::Environment { scale, rotation_deg } if *scale > 0.0 => {
+            (true, format!("--envmap, scale {scale}, turned {rotation_deg} degrees"))
+        }
+        Sky::Environment { .. } => (false, "environment map of scale 0".to_string()),
+        _ => (false, "no environment map".to_string()),
     }
 }

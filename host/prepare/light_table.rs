@@ -55,6 +55,23 @@ impl LightTable {
     }
 }
 
+impl LightTable {
+    /// The table of `picks` (summing to `total_weight`) with one entry appended, of weight
+    /// `extra` (an environment map, added after the scene was prepared), and the entries in
+    /// `dropped` given weight 0 (a default light the map replaces). The old entries' weights
+    /// are their pmf times the old total.
+    pub fn with_extra(picks: &[GpuLightPick], total_weight: f64, extra: f64, dropped: &[usize]) -> Self {
+        let weights: Vec<f64> = picks
+            .iter()
+            .enumerate()
+            .map(|(i, p)| if dropped.contains(&i) { 0.0 } else { p.pmf as f64 * total_weight })
+            .chain(std::iter::once(if extra.is_finite() { extra.max(0.0) } else { 0.0 }))
+            .collect();
+        let total_weight: f64 = weights.iter().sum();
+        Self { picks: alias_table(&weights, total_weight), total_weight }
+    }
+}
+
 /// Vose's alias method: entry i keeps itself with probability `threshold`, else `alias`.
 fn alias_table(weights: &[f64], total: f64) -> Vec<GpuLightPick> {
     let n = weights.len();
@@ -109,6 +126,19 @@ mod tests {
             assert!((p - want).abs() < 1e-6, "entry {i}: picked with {p}, weight says {want}");
             assert!((picks[i].pmf as f64 - want).abs() < 1e-6, "entry {i}: pmf {}", picks[i].pmf);
         }
+    }
+
+    #[test]
+    fn an_extra_entry_joins_by_weight_and_dropped_ones_leave() {
+        let weights = [1.0, 3.0, 4.0];
+        let picks = alias_table(&weights, 8.0);
+        let t = LightTable::with_extra(&picks, 8.0, 4.0, &[1]);
+        let p = selection_probabilities(&t.picks);
+        let want = [1.0 / 9.0, 0.0, 4.0 / 9.0, 4.0 / 9.0];
+        for k in 0..4 {
+            assert!((p[k] - want[k]).abs() < 1e-6 && (t.picks[k].pmf as f64 - want[k]).abs() < 1e-6, "entry {k}: {}", p[k]);
+        }
+        assert!((t.total_weight - 9.0).abs() < 1e-9);
     }
 
     #[test]

@@ -4,12 +4,14 @@
 //! it on the device. Integrators and batch queries take only the uploaded result.
 
 pub mod cache;
+pub mod envmap;
 pub mod features;
 pub mod light_table;
 pub mod scene_buffers;
 pub mod texture_atlas;
 pub mod upload;
 
+pub use envmap::EnvLight;
 pub use features::Features;
 pub use upload::{GpuBvh, GpuScene};
 
@@ -78,6 +80,8 @@ impl SceneInfo {
             Sky::None => ([0.0; 3], TEXTURE_NONE),
             Sky::Constant(c) => (c.to_array(), TEXTURE_NONE),
             Sky::CubeMap { first_texture, scale } => (scale.to_array(), first_texture),
+            // Looked up in the map's own arrays (`GpuScene::set_environment`), its scale in them.
+            Sky::Environment { .. } => ([0.0; 3], TEXTURE_NONE),
         };
         Self {
             camera: camera.frame().map_err(|e| format!("{e:#}")),

@@ -68,6 +68,17 @@ pub struct GpuScene<'a> {
     pub pick_count: u32,
     /// 1 / the light table's total weight (0 when nothing emits).
     pub inv_total_weight: f32,
+    /// The environment map's radiance and sampling distribution (BINDING_ENV_TEXELS,
+    /// BINDING_ENV_CDF; one zero texel each without a map).
+    pub env_texels: TexelArray<'a>,
+    pub env_cdf: TexelArray<'a>,
+    /// What the frame uniform says of the map (`EnvFrame::NONE` without one).
+    pub env: super::envmap::EnvFrame,
+    /// The probability that light sampling picks the map (its light-table entry, the last).
+    pub env_pick_pmf: f32,
+    /// The map's mean radiance, the Whitted integrator's ambient light from it (zero without
+    /// one; the default light's ambient is taken out when the map replaces it).
+    pub env_ambient: glam::Vec3,
     pub info: SceneInfo,
 }
 
@@ -97,12 +108,45 @@ impl<'a> GpuScene<'a> {
             emitter_count: a.emitters.len() as u32,
             pick_count: a.picks.len() as u32,
             inv_total_weight: if a.total_weight > 0.0 { (1.0 / a.total_weight) as f32 } else { 0.0 },
+            env_texels: TexelArray::with_data::<[u32; 4]>(ctx, "environment map", &[], Rgba32Uint)?,
+            env_cdf: TexelArray::with_data::<u32>(ctx, "environment map distribution", &[], R32Uint)?,
+            env: super::envmap::EnvFrame::NONE,
+            env_pick_pmf: 0.0,
+            env_ambient: glam::Vec3::ZERO,
             info: info.clone(),
         })
     }
 
+    /// Lights the scene with an environment map: uploads its texels and distribution, and adds
+    /// it to the light table by its power. If the scene file's only light is the default one
+    /// the loader added (`LoadStats::default_light`), the map replaces it: `drop_default_light`
+    /// takes it out of light sampling and out of the lights the Whitted integrator loops over.
+    pub fn set_environment(&mut self, ctx: &'a Context, env: &super::EnvLight, picks: &[crate::gpu_abi::GpuLightPick], total_weight: f64, drop_default_light: bool) -> Result<()> {
+        use TexelFormat::{R32Uint, Rgba32Uint};
+        let mut dropped = Vec::new();
+        if drop_default_light && self.light_count > 0 {
+            // The default light is the last light, after the emitters in the table.
+            dropped.push((self.emitter_count + self.light_count - 1) as usize);
+            self.light_count -= 1;
+        }
+        let table = super::light_table::LightTable::with_extra(picks, total_weight, env.weight(self.info.radius), &dropped);
+        self.env_texels = TexelArray::with_data(ctx, "environment map", &env.texels, Rgba32Uint)?;
+        self.env_cdf = TexelArray::with_data(ctx, "environment map distribution", &env.cdf, R32Uint)?;
+        self.light_picks = TexelArray::with_data(ctx, "light picks", &table.picks, Rgba32Uint)?;
+        self.pick_count = table.picks.len() as u32;
+        self.inv_total_weight = if table.total_weight > 0.0 { (1.0 / table.total_weight) as f32 } else { 0.0 };
+        self.env_pick_pmf = table.picks.last().map_or(0.0, |p| p.pmf);
+        self.env = env.frame_fields();
+        self.env_ambient = env.mean_radiance;
+        if !dropped.is_empty() {
+            // The loader's ambient came with the default light.
+            self.env_ambient -= self.info.ambient;
+        }
+        Ok(())
+    }
+
     /// The scene's shading arrays by binding number (texel buffers, like the BVH's).
-    pub fn shading_bindings(&self) -> [(u32, &TexelArray<'a>); 7] {
+    pub fn shading_bindings(&self) -> [(u32, &TexelArray<'a>); 9] {
         [
             (BINDING_SHADING, &self.shading),
             (BINDING_MATERIALS, &self.materials),
@@ -111,6 +155,8 @@ impl<'a> GpuScene<'a> {
             (BINDING_TEXTURES, &self.textures),
             (BINDING_TEXELS, &self.texels),
             (BINDING_UVS, &self.uvs),
+            (BINDING_ENV_TEXELS, &self.env_texels),
+            (BINDING_ENV_CDF, &self.env_cdf),
         ]
     }
 

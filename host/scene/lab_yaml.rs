@@ -117,6 +117,7 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
         let msg = "no lights and no emitting material; added a directional light over the camera's shoulder";
         scene.stats.warn(InputError::new(path, None, msg).to_string());
         scene.lights.push(default_light(&scene));
+        scene.stats.default_light = true;
         scene.ambient = ambient.unwrap_or(Vec3::splat(0.05));
     }
     Ok(scene)

@@ -6,6 +6,7 @@
 
 pub mod assemble;
 pub mod camera;
+pub mod envmap;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;
@@ -113,6 +114,9 @@ pub struct LoadStats {
     /// The file has no camera and looks like a room from its bounds' centre
     /// (`assemble::looks_like_a_room`): the default camera and light are inside it.
     pub interior: bool,
+    /// Nothing in the file emits, so the loader added `default_light` as the last of
+    /// `Scene::lights`, and a little ambient light: an environment map replaces both.
+    pub default_light: bool,
 }
 
 impl LoadStats {

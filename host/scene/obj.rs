@@ -49,6 +49,7 @@ pub fn load_obj(path: &Path) -> anyhow::Result<Scene> {
         // Without an emitter the image would be black: light from over the camera's shoulder,
         // plus a little ambient so that faces turned away are not pitch black.
         scene.lights.push(default_light(&scene));
+        scene.stats.default_light = true;
         scene.ambient = Vec3::splat(0.05);
     }
     Ok(scene)

@@ -1,5 +1,5 @@
-//! What rays that leave the scene see: nothing (black), a constant radiance (`--sky R,G,B`) or
-//! a cube map (lab `Skyboxes`).
+//! What rays that leave the scene see: nothing (black), a constant radiance (`--sky R,G,B`), a
+//! cube map (lab `Skyboxes`) or an environment map (`--envmap`, `super::envmap`).
 
 use glam::Vec3;
 
@@ -14,6 +14,10 @@ pub enum Sky {
     /// +z, -z (the lab's `Skyboxes` order and OpenGL's), looked up as an OpenGL cube map;
     /// radiance = face texel^2.2 times `scale`.
     CubeMap { first_texture: u32, scale: Vec3 },
+    /// An environment map (`--envmap FILE`; the texels travel beside the scene, as
+    /// `prepare::EnvLight`): radiance = texel times `scale`, the map turned by `rotation_deg`
+    /// about +y. Unlike the others it is a light: the path tracer samples it.
+    Environment { scale: f32, rotation_deg: f32 },
 }
 
 impl Sky {
@@ -22,6 +26,7 @@ impl Sky {
             Sky::None => false,
             Sky::Constant(c) => c.max_element() > 0.0,
             Sky::CubeMap { scale, .. } => scale.max_element() > 0.0,
+            Sky::Environment { scale, .. } => scale > 0.0,
         }
     }
 

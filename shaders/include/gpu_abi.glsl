@@ -124,8 +124,12 @@ struct GpuFrame {
     uint sky_texture;
     float aperture_radius;
     float focus_distance;
+    uint env_width;
+    uint env_height;
+    float env_rotation_cos;
+    float env_rotation_sin;
+    float env_pick_pmf;
     uint _pad0;
-    uint _pad1;
 };
 
 struct GpuPush {

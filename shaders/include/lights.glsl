@@ -7,6 +7,7 @@
 #include "path_bindings.glsl"
 #include "sampling.glsl"
 #include "scene_bindings.glsl"
+#include "environment.glsl"
 
 // Entry j of the table with probability load_light_pick(j).pmf (Vose 1991). u is consumed and
 // given back rescaled to [0, 1) within the part of [0, 1) that chose j, so that the caller can
@@ -78,6 +79,16 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
         ls.span = offset_ray(q, en, frame.scene_scale) - origin;
         ls.span_tmax = 1.0;
         return true;
+    }
+    // The environment map is the table's last entry (prepare::GpuScene::set_environment).
+    if (HAS_ENVMAP && j == params.pick_count - 1u) {
+        float pdf;
+        if (!env_sample(u, ls.wi, pdf)) return false;
+        ls.pdf = pmf * pdf;
+        ls.li_over_pdf = env_radiance(ls.wi) / ls.pdf;
+        ls.span = ls.wi;
+        ls.span_tmax = 1.0 / 0.0;
+        return any(greaterThan(ls.li_over_pdf, vec3(0.0)));
     }
     if (!(HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT)) return false;
     GpuLight light = load_light(j - frame.emitter_count);

@@ -26,6 +26,9 @@ layout(set = 0, binding = BINDING_EMITTERS) uniform utextureBuffer emitter_texel
 layout(set = 0, binding = BINDING_TEXTURES) uniform utextureBuffer texture_texels;
 layout(set = 0, binding = BINDING_TEXELS) uniform utextureBuffer atlas_texels;
 layout(set = 0, binding = BINDING_UVS) uniform utextureBuffer uv_texels;
+// The environment map: RGBA32F radiance as bits, and its sampling CDFs (environment.glsl).
+layout(set = 0, binding = BINDING_ENV_TEXELS) uniform utextureBuffer env_texels;
+layout(set = 0, binding = BINDING_ENV_CDF) uniform utextureBuffer env_cdf_texels;
 
 // 48 B: n0, material | n1, pad | n2, pad.
 GpuShading load_shading(uint i) {

@@ -1,0 +1,253 @@
+//! The environment map as a light: its texels for the GPU and the distribution the path
+//! tracer samples directions from (`shaders/include/environment.glsl`, whose CPU twin is
+//! [`EnvLight::sample`] and [`EnvLight::pdf`]).
+//!
+//! The radiance is bilinear between texels (`scene::envmap`: texel centres at u = (i + 0.5) / W,
+//! rows on v = j / (H - 1)), so the map is W x (H - 1) bilinear cells, cell (i, j) spanning
+//! texel columns i, i + 1 (wrapping) and rows j, j + 1. A cell is picked with probability
+//! proportional to the mean luminance of its four corners (proportional to its bilinear
+//! patch's integral in (u, v)) times sin(theta) at its centre, and a point in it uniformly:
+//! a piecewise-constant 2D distribution, marginal over rows and conditional within a row
+//! (Pharr, Jakob & Humphreys, PBRT 4th ed., sections A.5.2 and 12.5.2, `ImageInfiniteLight`).
+//! Every cell whose corners are not all black gets a positive probability, so sampling never
+//! misses light. In solid angle the density is p(u, v) / (2 pi^2 sin theta).
+
+use crate::gpu_abi::constants::*;
+use crate::scene::envmap::{direction_to_uv, grid_position, rotate_y, uv_to_direction, EnvMap};
+use glam::{Vec2, Vec3};
+use std::f64::consts::PI;
+
+/// An environment map ready for the GPU.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvLight {
+    pub width: u32,
+    pub height: u32,
+    /// Radiance texels (scaled), RGBA32F bits, alpha 0.
+    pub texels: Vec<[u32; 4]>,
+    /// The marginal CDF over rows of cells (height entries, 0 to 1), then each row's CDF over
+    /// its cells (width + 1 entries each), floats as bits (BINDING_ENV_CDF).
+    pub cdf: Vec<u32>,
+    pub scale: f32,
+    pub rotation_deg: f32,
+    /// The mean radiance over the sphere of directions (scaled): what a Lambert surface under
+    /// it would reflect times its albedo, unshadowed (the Whitted integrator's approximation).
+    pub mean_radiance: Vec3,
+    /// The integral of mean(RGB radiance) over the sphere (scaled), for the light picker.
+    pub mean_integral: f64,
+    marginal: Vec<f32>,
+    conditional: Vec<f32>,
+}
+
+fn luminance(c: Vec3) -> f64 {
+    // Rec. 709 luminance, as Mitsuba's envmap weighs its texels.
+    0.2126 * c.x as f64 + 0.7152 * c.y as f64 + 0.0722 * c.z as f64
+}
+
+/// A CDF (n + 1 entries from 0 to 1) of `weights`; uniform if they are all 0.
+fn cdf_of(weights: &[f64]) -> Vec<f32> {
+    let total: f64 = weights.iter().sum();
+    let mut out = Vec::with_capacity(weights.len() + 1);
+    let mut acc = 0.0;
+    out.push(0.0);
+    for (k, w) in weights.iter().enumerate() {
+        acc += w;
+        out.push(if total > 0.0 { (acc / total) as f32 } else { (k + 1) as f32 / weights.len() as f32 });
+    }
+    *out.last_mut().unwrap_or(&mut 0.0) = 1.0;
+    out
+}
+
+/// The index k with cdf[k] <= u < cdf[k + 1] (skipping empty entries), as the shader finds it.
+fn find_interval(cdf: &[f32], u: f32) -> usize {
+    // The largest k < n with cdf[k] <= u.
+    let n = cdf.len() - 1;
+    let (mut lo, mut hi) = (0usize, n);
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if cdf[mid] <= u { lo = mid } else { hi = mid }
+    }
+    lo
+}
+
+impl EnvLight {
+    pub fn new(map: &EnvMap, scale: f32, rotation_deg: f32) -> Self {
+        let (w, h) = (map.width as usize, map.height as usize);
+        let rows = h - 1;
+        let texels = map
+            .texels
+            .iter()
+            .map(|t| [(t[0] * scale).to_bits(), (t[1] * scale).to_bits(), (t[2] * scale).to_bits(), 0])
+            .collect();
+        let lum: Vec<f64> = map.texels.iter().map(|t| luminance(Vec3::from(*t))).collect();
+        let mut row_weights = Vec::with_capacity(rows);
+        let mut conditional = Vec::with_capacity(rows * (w + 1));
+        let mut mean_rgb = glam::DVec3::ZERO;
+        let mut mean_integral = 0.0;
+        for j in 0..rows {
+            let sin_theta = (PI * (j as f64 + 0.5) / rows as f64).sin();
+            let cells: Vec<f64> = (0..w)
+                .map(|i| {
+                    let i1 = (i + 1) % w;
+                    let corners = lum[j * w + i] + lum[j * w + i1] + lum[(j + 1) * w + i] + lum[(j + 1) * w + i1];
+                    0.25 * corners * sin_theta
+                })
+                .collect();
+            row_weights.push(cells.iter().sum::<f64>());
+            conditional.extend(cdf_of(&cells));
+            // Each cell's bilinear patch integrates to the mean of its corners over (u, v); the
+            // solid angle of a row of cells is 2 pi (cos theta_j - cos theta_j+1).
+            let solid_angle = 2.0 * PI * ((PI * j as f64 / rows as f64).cos() - (PI * (j + 1) as f64 / rows as f64).cos());
+            let mut row_rgb = glam::DVec3::ZERO;
+            for i in 0..w {
+                let i1 = (i + 1) % w;
+                let c = map.texel(i as u32, j as u32) + map.texel(i1 as u32, j as u32)
+                    + map.texel(i as u32, j as u32 + 1) + map.texel(i1 as u32, j as u32 + 1);
+                row_rgb += 0.25 * c.as_dvec3();
+            }
+            mean_rgb += row_rgb / w as f64 * solid_angle;
+        }
+        mean_integral += (mean_rgb.x + mean_rgb.y + mean_rgb.z) / 3.0 * scale as f64;
+        let marginal = cdf_of(&row_weights);
+        let cdf = marginal.iter().chain(&conditional).map(|x| x.to_bits()).collect();
+        Self {
+            width: map.width,
+            height: map.height,
+            texels,
+            cdf,
+            scale,
+            rotation_deg,
+            mean_radiance: (mean_rgb / (4.0 * PI) * scale as f64).as_vec3(),
+            mean_integral,
+            marginal,
+            conditional,
+        }
+    }
+
+    /// The selection weight of the map in the light picker: its power into the scene's bounding
+    /// sphere of radius r, pi r^2 times the integral of mean(radiance) over directions (the
+    /// same measure as a directional light's, `light_table`).
+    pub fn weight(&self, scene_radius: f32) -> f64 {
+        PI * (scene_radius as f64).powi(2) * self.mean_integral
+    }
+
+    fn row_cdf(&self, j: usize) -> &[f32] {
+        let n = self.width as usize + 1;
+        &self.conditional[j * n..(j + 1) * n]
+    }
+
+    /// A world direction for `u` and its solid-angle density: the CPU twin of `env_sample`.
+    pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
+        let rows = self.height as usize - 1;
+        let j = find_interval(&self.marginal, u.y).min(rows - 1);
+        let (m0, m1) = (self.marginal[j], self.marginal[j + 1]);
+        let fy = ((u.y - m0) / (m1 - m0)).clamp(0.0, 1.0);
+        let row = self.row_cdf(j);
+        let i = find_interval(row, u.x).min(self.width as usize - 1);
+        let (c0, c1) = (row[i], row[i + 1]);
+        let fx = ((u.x - c0) / (c1 - c0)).clamp(0.0, 1.0);
+        let x = i as f32 + fx;
+        let y = j as f32 + fy;
+        let uv = Vec2::new(((x + 0.5) / self.width as f32).fract(), y / rows as f32);
+        let d = rotate_y(uv_to_direction(uv), self.rotation_deg);
+        (d, self.pdf(d))
+    }
+
+    /// The solid-angle density with which [`Self::sample`] draws world direction `d`: the CPU
+    /// twin of `env_pdf`.
+    pub fn pdf(&self, d: Vec3) -> f32 {
+        let local = rotate_y(d, -self.rotation_deg);
+        let uv = direction_to_uv(local);
+        let (x, y) = grid_position(uv, self.width, self.height);
+        let rows = self.height as usize - 1;
+        let (i, j) = ((x as usize).min(self.width as usize - 1), (y as usize).min(rows - 1));
+        let row = self.row_cdf(j);
+        let p = (self.marginal[j + 1] - self.marginal[j]) * (row[i + 1] - row[i]);
+        let sin_theta = (1.0 - local.y * local.y).max(0.0).sqrt();
+        if sin_theta <= 0.0 {
+            return 0.0;
+        }
+        p * (self.width as usize * rows) as f32 / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin_theta)
+    }
+
+    /// What `GpuFrame` says of the map.
+    pub fn frame_fields(&self) -> EnvFrame {
+        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        EnvFrame { width: self.width, height: self.height, rotation_cos: c, rotation_sin: s }
+    }
+}
+
+/// The map's fields of the frame uniform.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnvFrame {
+    pub width: u32,
+    pub height: u32,
+    pub rotation_cos: f32,
+    pub rotation_sin: f32,
+}
+
+impl EnvFrame {
+    /// No environment map.
+    pub const NONE: EnvFrame = EnvFrame { width: 0, height: 0, rotation_cos: 1.0, rotation_sin: 0.0 };
+}
+
+const _: () = assert!(BINDING_ENV_CDF == BINDING_ENV_TEXELS + 1);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A map with a smooth sky and a small bright sun.
+    fn sunny(w: u32, h: u32) -> EnvMap {
+        let mut texels = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                let sun = if (x as i32 - 5).abs() <= 1 && (y as i32 - 3).abs() <= 1 { 500.0 } else { 0.0 };
+                let sky = 0.2 + 0.8 * (y as f32 / (h - 1) as f32);
+                texels.push([sky + sun, sky + 0.5 * sun, sky]);
+            }
+        }
+        EnvMap::from_texels("sunny.exr", w, h, texels).unwrap()
+    }
+
+    #[test]
+    fn density_integrates_to_one_and_matches_the_samples() {
+        let light = EnvLight::new(&sunny(32, 17), 1.0, 30.0);
+        // Integral of the pdf over the sphere by a fine (theta, phi) grid.
+        let n = 400;
+        let mut total = 0.0f64;
+        for a in 0..n {
+            let theta = PI * (a as f64 + 0.5) / n as f64;
+            for b in 0..2 * n {
+                let phi = PI * (b as f64 + 0.5) / n as f64;
+                let d = Vec3::new((theta.sin() * phi.cos()) as f32, theta.cos() as f32, (theta.sin() * phi.sin()) as f32);
+                total += light.pdf(d) as f64 * theta.sin() * (PI / n as f64).powi(2);
+            }
+        }
+        assert!((total - 1.0).abs() < 0.01, "pdf integrates to {total}");
+        // Sampled directions: their pdf is the pdf the sampler reports, and the sun's cells get
+        // about the share the distribution gives them.
+        let mut in_sun = 0;
+        let count = 20000;
+        for k in 0..count {
+            // The R2 sequence (Roberts 2018): well spread points in the unit square.
+            let u = Vec2::new((0.5 + k as f64 * 0.754_877_666).fract() as f32, (0.5 + k as f64 * 0.569_840_291).fract() as f32);
+            let (d, pdf) = light.sample(u);
+            assert!((d.length() - 1.0).abs() < 1e-4 && pdf > 0.0, "{d} {pdf}");
+            let local = rotate_y(d, -30.0);
+            let (x, y) = grid_position(direction_to_uv(local), 32, 17);
+            if (3.0..7.0).contains(&x) && (1.0..5.0).contains(&y) {
+                in_sun += 1;
+            }
+        }
+        assert!(in_sun as f32 / count as f32 > 0.8, "only {in_sun} of {count} samples near the sun");
+    }
+
+    #[test]
+    fn mean_radiance_of_a_constant_map_is_the_constant() {
+        let map = EnvMap::from_texels("c.exr", 8, 5, vec![[0.5, 1.0, 2.0]; 40]).unwrap();
+        let light = EnvLight::new(&map, 2.0, 0.0);
+        assert!((light.mean_radiance - Vec3::new(1.0, 2.0, 4.0)).abs().max_element() < 1e-4, "{}", light.mean_radiance);
+        let want = 4.0 * PI * (7.0 / 3.0);
+        assert!((light.mean_integral - want).abs() < 1e-3 * want, "{} vs {want}", light.mean_integral);
+    }
+}

@@ -1,0 +1,110 @@
+// The environment map (`--envmap`): lookups, and importance sampling for the path tracer's
+// light sampling. CPU twins: scene::envmap (EnvMap::radiance, direction_to_uv, grid_position,
+// rotate_y) and prepare::envmap (EnvLight::sample, EnvLight::pdf), which say the conventions:
+// Mitsuba 3's latitude-longitude mapping, texels at u = (i + 0.5) / W (wrapping) and on rows
+// v = j / (H - 1), bilinear between; a piecewise-constant distribution over the W x (H - 1)
+// bilinear cells (pbrt-v4's ImageInfiniteLight), marginal CDF over rows then one CDF per row.
+#ifndef VKRT_ENVIRONMENT_GLSL
+#define VKRT_ENVIRONMENT_GLSL
+#include "scene_bindings.glsl"
+#include "math.glsl"
+
+// The map is turned about +y by the frame's angle: world = R local.
+vec3 env_to_local(vec3 d) {
+    float c = frame.env_rotation_cos;
+    float s = frame.env_rotation_sin;
+    return vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
+}
+
+vec3 env_to_world(vec3 d) {
+    float c = frame.env_rotation_cos;
+    float s = frame.env_rotation_sin;
+    return vec3(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+}
+
+// Texel units: x from column 0's centre, wrapped into [0, W); y from the top row, in [0, H - 1].
+vec2 env_grid(vec3 local) {
+    float u = atan(local.x, -local.z) / (2.0 * PI);
+    u -= floor(u);
+    float v = acos(clamp(local.y, -1.0, 1.0)) / PI;
+    float w = float(frame.env_width);
+    float x = u * w - 0.5;
+    x -= floor(x / w) * w;
+    return vec2(min(x, w - w * 1.1920929e-7), v * float(frame.env_height - 1u));
+}
+
+vec3 env_texel(uint i, uint j) {
+    return uintBitsToFloat(texelFetch(env_texels, int(j * frame.env_width + i)).xyz);
+}
+
+float env_cdf(uint k) {
+    return uintBitsToFloat(texelFetch(env_cdf_texels, int(k)).x);
+}
+
+// The radiance arriving along world direction d (unit).
+vec3 env_radiance(vec3 d) {
+    vec2 g = env_grid(env_to_local(d));
+    uint i = min(uint(g.x), frame.env_width - 1u);
+    uint j = min(uint(g.y), frame.env_height - 2u);
+    vec2 f = g - vec2(i, j);
+    uint i1 = i + 1u == frame.env_width ? 0u : i + 1u;
+    vec3 top = mix(env_texel(i, j), env_texel(i1, j), f.x);
+    vec3 bottom = mix(env_texel(i, j + 1u), env_texel(i1, j + 1u), f.x);
+    return mix(top, bottom, f.y);
+}
+
+// The largest k < n with cdf[base + k] <= u (cdf[base] = 0 <= u): the interval u falls in.
+uint env_find_interval(uint base, uint n, float u) {
+    uint lo = 0u;
+    uint hi = n;
+    while (hi - lo > 1u) {
+        uint mid = (lo + hi) / 2u;
+        if (env_cdf(base + mid) <= u) lo = mid;
+        else hi = mid;
+    }
+    return lo;
+}
+
+// The solid-angle density of the map's sampling at a direction with these grid coordinates
+// and sin(theta), from cell (i, j)'s probability.
+float env_density(uint i, uint j, float sin_theta) {
+    uint w = frame.env_width;
+    uint rows = frame.env_height - 1u;
+    uint row = frame.env_height + j * (w + 1u);
+    float p = (env_cdf(j + 1u) - env_cdf(j)) * (env_cdf(row + i + 1u) - env_cdf(row + i));
+    return sin_theta > 0.0 ? p * float(w * rows) / (2.0 * PI * PI * sin_theta) : 0.0;
+}
+
+// Draws a world direction wi with solid-angle density pdf; false if it carries nothing.
+bool env_sample(vec2 u, out vec3 wi, out float pdf) {
+    uint w = frame.env_width;
+    uint rows = frame.env_height - 1u;
+    uint j = env_find_interval(0u, rows, u.y);
+    float m0 = env_cdf(j);
+    float m1 = env_cdf(j + 1u);
+    float fy = clamp((u.y - m0) / (m1 - m0), 0.0, 1.0);
+    uint row = frame.env_height + j * (w + 1u);
+    uint i = env_find_interval(row, w, u.x);
+    float c0 = env_cdf(row + i);
+    float c1 = env_cdf(row + i + 1u);
+    float fx = clamp((u.x - c0) / (c1 - c0), 0.0, 1.0);
+    float x = float(i) + fx;
+    float theta = PI * (float(j) + fy) / float(rows);
+    float phi = 2.0 * PI * fract((x + 0.5) / float(w));
+    float sin_theta = sin(theta);
+    vec3 local = vec3(sin(phi) * sin_theta, cos(theta), -cos(phi) * sin_theta);
+    wi = env_to_world(local);
+    pdf = env_density(i, j, sin_theta);
+    return pdf > 0.0;
+}
+
+// The solid-angle density with which env_sample draws world direction d.
+float env_pdf(vec3 d) {
+    vec3 local = env_to_local(d);
+    vec2 g = env_grid(local);
+    uint i = min(uint(g.x), frame.env_width - 1u);
+    uint j = min(uint(g.y), frame.env_height - 2u);
+    return env_density(i, j, sqrt(max(0.0, 1.0 - local.y * local.y)));
+}
+
+#endif
