@@ -45,5 +45,6 @@ pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_TEXTURES, BindingKind::Texels),
     (BINDING_TEXELS, BindingKind::Texels),
     (BINDING_UVS, BindingKind::Texels),
+    (BINDING_TANGENTS, BindingKind::Texels),
     (BINDING_FRAME, BindingKind::Uniform),
 ];

@@ -21,8 +21,11 @@ pub const POINT: Feature = Feature { name: "point lights", spec_id: SPEC_HAS_POI
 pub const DIRECTIONAL: Feature = Feature { name: "directional lights", spec_id: SPEC_HAS_DIRECTIONAL };
 pub const SPOT: Feature = Feature { name: "spot lights", spec_id: SPEC_HAS_SPOT };
 pub const SKY: Feature = Feature { name: "sky", spec_id: SPEC_HAS_SKY };
+pub const METALLIC_ROUGHNESS: Feature = Feature { name: "metallic-roughness", spec_id: SPEC_HAS_METALLIC_ROUGHNESS };
+pub const NORMAL_MAP: Feature = Feature { name: "normal maps", spec_id: SPEC_HAS_NORMAL_MAP };
 
-pub const ALL: [Feature; 10] = [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY];
+pub const ALL: [Feature; 12] =
+    [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, METALLIC_ROUGHNESS, NORMAL_MAP];
 
 /// Which features a scene uses, each with the reason (for `--verbose`).
 #[derive(Debug, Clone, PartialEq)]
@@ -65,7 +68,7 @@ impl Features {
             if n == 0 { (false, format!("no {what}")) } else { (true, format!("{n} {what}")) }
         };
         let entries = vec![
-            (TEXTURES, why(named(&|m| m.diffuse_texture.is_some()), "materials with a diffuse texture")),
+            (TEXTURES, why(named(&|m| m.has_textures()), "materials with a texture")),
             (ALPHA, why(named(&|m| m.alpha_texture.is_some()), "materials with see-through texels")),
             (DIELECTRIC, why(named(&|m| m.is_dielectric()), "dielectric materials")),
             (MIRROR, why(named(&|m| m.is_mirror() && !m.is_dielectric()), "mirror materials")),
@@ -75,6 +78,8 @@ impl Features {
             (DIRECTIONAL, count_lights(&|l| matches!(l, Light::Directional { .. }), "directional lights")),
             (SPOT, count_lights(&|l| matches!(l, Light::Spot { .. }), "spot lights")),
             (SKY, sky_use(&scene.sky)),
+            (METALLIC_ROUGHNESS, why(named(&|m| m.metallic_roughness.is_some()), "metallic-roughness materials")),
+            (NORMAL_MAP, why(named(&|m| m.normal_texture.is_some()), "materials with a normal map")),
         ];
         Self { entries: entries.into_iter().map(|(f, (on, w))| (f, on, w)).collect() }
     }
