@@ -77,7 +77,9 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
                 // The density light sampling would have had for this point, in solid angle
                 // (dir is unit, so h.t is the distance).
                 float cos_light = dot(s.ng, -dir);
-                float light_pdf = emitter_area_pdf(m.emission) * h.t * h.t / max(cos_light, 1e-12);
+                // Light sampling weighs an emitter by its emission factor, without the texture.
+                vec3 ke = HAS_TEXTURES ? load_material(s.material).emission : m.emission;
+                float light_pdf = emitter_area_pdf(ke) * h.t * h.t / max(cos_light, 1e-12);
                 w = power_heuristic(prev_pdf, light_pdf);
             }
             result += throughput * m.emission * w;

@@ -17,6 +17,7 @@
 #include "surface.glsl"
 #include "math.glsl"
 #include "fresnel.glsl"
+#include "emission.glsl"
 
 // Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
 layout(local_size_x_id = SPEC_WORKGROUP_X, local_size_y_id = SPEC_WORKGROUP_Y) in;
@@ -31,13 +32,38 @@ const vec3 EMITTER_SAMPLE_BARY[4] = vec3[4](
     vec3(1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0),
     vec3(1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0));
 
+// glTF metallic-roughness materials in Whitted's terms (README, "Materials"):
+// - diffuse Kd = base colour * (1 - metallic): metals have no diffuse term;
+// - specular Ks = mix(0.04, base colour, metallic): the Fresnel f0 of the path tracer's BSDF
+//   (bsdf.glsl) at normal incidence, for the Blinn-Phong highlight;
+// - Ns from roughness by inverting the path tracer's MTL mapping alpha = sqrt(2 / (Ns + 2))
+//   (Walter et al. 2007) with alpha = roughness^2: Ns = 2 / alpha^2 - 2, alpha at least
+//   MR_MIN_ALPHA;
+// - below WHITTED_MR_MIRROR_ROUGHNESS, also a mirror reflection weighted by Ks (a smooth
+//   metal mirrors its base colour, a smooth dielectric reflects 4 %).
+const float WHITTED_MR_MIRROR_ROUGHNESS = 0.2;
+const float WHITTED_MR_MIN_ALPHA = 1e-3;
+
+GpuMaterial whitted_material(GpuMaterial m) {
+    if (!HAS_METALLIC_ROUGHNESS || (m.flags & MATERIAL_METALLIC_ROUGHNESS) == 0u) return m;
+    vec3 base = clamp(m.diffuse, 0.0, 1.0);
+    float metallic = clamp(m.metallic, 0.0, 1.0);
+    float r = clamp(m.roughness, 0.0, 1.0);
+    float a = max(r * r, WHITTED_MR_MIN_ALPHA);
+    m.diffuse = base * (1.0 - metallic);
+    m.specular = mix(vec3(0.04), base, metallic);
+    m.shininess = 2.0 / (a * a) - 2.0;
+    if (r < WHITTED_MR_MIRROR_ROUGHNESS) m.flags |= MATERIAL_MIRROR;
+    return m;
+}
+
 // Blinn-Phong response to light arriving from unit direction l with "scaled irradiance" e
 // (see scene::Light for the units of each light kind).
 vec3 blinn_phong(GpuMaterial m, Surface s, vec3 view, vec3 l, vec3 e) {
     float n_dot_l = dot(s.ns, l);
     if (n_dot_l <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
     vec3 c = m.diffuse * n_dot_l;
-    if (HAS_GLOSSY) {
+    if (HAS_GLOSSY || HAS_METALLIC_ROUGHNESS) {
         vec3 h = normalize(l + view);
         c += m.specular * pow(max(dot(s.ns, h), 0.0), m.shininess);
     }
@@ -96,7 +122,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
             // Emitters emit from their front face only.
             if (cos_light <= 0.0 || dot(s.ng, l) <= 0.0) continue;
             // Radiance * area * cos / d^2 is the irradiance of this piece, over pi (scene::Light).
-            e = em.radiance * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
+            e = emission_at(em.prim, b.y, b.z, em.radiance) * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
             // Shadow ray between the two offset points, so neither surface occludes itself.
             vec3 target = offset_ray(q, en, frame.scene_scale);
             span = target - origin;
@@ -129,7 +155,7 @@ vec3 whitted(vec3 origin, vec3 dir) {
             continue;
         }
         Surface s = surface_at(h, task.dir);
-        GpuMaterial m = material_at(h, s);
+        GpuMaterial m = whitted_material(material_at(h, s));
         vec3 view = -task.dir;
         if (HAS_EMITTERS && s.front) color += task.weight * m.emission;
         color += task.weight * direct_light(m, s, view);
@@ -149,7 +175,7 @@ vec3 whitted(vec3 origin, vec3 dir) {
                 stack[sp++] = Task(offset_ray(s.p, -s.ng, frame.scene_scale), normalize(refracted),
                                    task.weight * (1.0 - f), task.depth + 1u);
             }
-        } else if (HAS_MIRROR && (m.flags & MATERIAL_MIRROR) != 0u) {
+        } else if ((HAS_MIRROR || HAS_METALLIC_ROUGHNESS) && (m.flags & MATERIAL_MIRROR) != 0u) {
             stack[sp++] = Task(offset_ray(s.p, s.ng, frame.scene_scale), reflected, task.weight * m.specular, task.depth + 1u);
         }
     }

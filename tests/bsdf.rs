@@ -4,7 +4,9 @@
 //! - bsdf_eval's density integrates (over uniform directions) to the probability of drawing a
 //!   non-delta sample, so the two agree on normalisation;
 //! - the directions drawn follow bsdf_eval's density, bin by bin (a z-score per bin);
-//! - no sample gains energy (albedo <= 1), and the dielectric reflects with Fresnel's odds.
+//! - no sample gains energy (albedo <= 1), and the dielectric reflects with Fresnel's odds;
+//! - f(wo, wi) = f(wi, wo) (reciprocity) at the uniform directions;
+//! and the same for glTF metallic-roughness materials, whose measured albedos are stated.
 
 mod common;
 
@@ -17,7 +19,7 @@ use vkrt::gpu_abi::constants::*;
 use vkrt::prepare::scene_buffers::gpu_material;
 use vkrt::gpu_abi::GpuPush;
 use vkrt::pipeline::{BindingKind, ComputePipeline};
-use vkrt::scene::Material;
+use vkrt::scene::{Material, MetallicRoughness};
 
 const SAMPLES: u32 = 1 << 16;
 const ANGLES: [f64; 3] = [0.95, 0.6, 0.2];
@@ -49,6 +51,9 @@ struct Probe {
     ok: bool,
     u: [f64; 3],
     pdf_u: f64,
+    /// f(wo, u) and f(u, wo), channel means.
+    f_ou: f64,
+    f_uo: f64,
 }
 
 fn run_probe(mats: &[Material]) -> Vec<Probe> {
@@ -57,7 +62,7 @@ fn run_probe(mats: &[Material]) -> Vec<Probe> {
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let mat_buf = Buffer::with_data(&ctx, "materials", &gpu_mats, storage).unwrap();
     let count = mats.len() as u64 * ANGLES.len() as u64 * SAMPLES as u64;
-    let out = Buffer::new(&ctx, "probe output", count * 48, storage, MemoryLocation::Device).unwrap();
+    let out = Buffer::new(&ctx, "probe output", count * 64, storage, MemoryLocation::Device).unwrap();
     let bindings = [(BINDING_MATERIALS, BindingKind::Storage), (BINDING_ACCUM, BindingKind::Storage)];
     let pipeline = ComputePipeline::new(&ctx, "bsdf probe", &common::probe_spirv("bsdf_probe"), &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
     pipeline.bind(BINDING_MATERIALS, &mat_buf).unwrap();
@@ -65,10 +70,10 @@ fn run_probe(mats: &[Material]) -> Vec<Probe> {
     let push = GpuPush { sample_count: SAMPLES, sample_base: 1234, ..bytemuck::Zeroable::zeroed() };
     let groups = [(count as u32).div_ceil(ctx.workgroups.d1), 1, 1];
     submit_and_wait(&ctx, "bsdf probe", |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups)).unwrap();
-    let raw: Vec<[f32; 4]> = out.read_as(count as usize * 3).unwrap();
+    let raw: Vec<[f32; 4]> = out.read_as(count as usize * 4).unwrap();
     common::assert_no_validation_messages(&ctx);
     let d = |v: [f32; 4]| [v[0] as f64, v[1] as f64, v[2] as f64];
-    raw.chunks_exact(3)
+    raw.chunks_exact(4)
         .map(|c| Probe {
             wi: d(c[0]),
             pdf_sampled: c[0][3] as f64,
@@ -78,6 +83,8 @@ fn run_probe(mats: &[Material]) -> Vec<Probe> {
             ok: c[1][3] > 0.5,
             u: d(c[2]),
             pdf_u: c[2][3] as f64,
+            f_ou: c[3][0] as f64,
+            f_uo: c[3][1] as f64,
         })
         .collect()
 }
@@ -106,7 +113,49 @@ fn fresnel(cos_i: f64, eta: f64) -> f64 {
 
 #[test]
 fn sampling_and_evaluation_agree_for_every_lobe() {
-    let named = materials();
+    check_lobes(&materials(), |_, _, albedo| albedo <= 1.0 + 1e-3);
+}
+
+/// glTF 2.0 metallic-roughness materials (base colour, metallic, roughness).
+fn metallic_roughness_materials() -> Vec<(&'static str, Material)> {
+    let m = |base: Vec3, metallic: f32, roughness: f32| Material {
+        diffuse: base,
+        metallic_roughness: Some(MetallicRoughness { metallic, roughness, texture: None }),
+        ..Material::default()
+    };
+    vec![
+        ("metal, roughness 0", m(Vec3::ONE, 1.0, 0.0)),
+        ("metal, roughness 0.2", m(Vec3::ONE, 1.0, 0.2)),
+        ("metal, roughness 0.5", m(Vec3::ONE, 1.0, 0.5)),
+        ("black metal, roughness 0.4", m(Vec3::ZERO, 1.0, 0.4)),
+        ("dielectric, roughness 1", m(Vec3::ONE, 0.0, 1.0)),
+        ("dielectric, roughness 0.3", m(Vec3::splat(0.8), 0.0, 0.3)),
+        ("half metal, roughness 0.6", m(Vec3::new(0.9, 0.5, 0.2), 0.5, 0.6)),
+    ]
+}
+
+#[test]
+fn metallic_roughness_sampling_evaluation_and_albedo() {
+    // The metal lobe (GGX, Schlick Fresnel tinted by the base colour) loses, never gains,
+    // energy, and a smooth white one keeps nearly all. glTF's dielectric fresnel_mix (Lambert
+    // weighted by 1 - F(wo.h), plus GGX weighted by F) is not energy conserving: seen at grazing
+    // angles a fairly smooth one its albedo goes above 1 (1.009 for base 0.8, roughness 0.3, cos 0.2
+    // on lavapipe), so the bound there is what the
+    // specification's model gives (measured on lavapipe: see the printed albedos).
+    check_lobes(&metallic_roughness_materials(), |name, cos_o, albedo| {
+        let metal = name.contains("metal") && !name.contains("half");
+        if metal {
+            let lossless = name == "metal, roughness 0";
+            albedo <= 1.0 + 1e-3 && (!lossless || albedo >= 0.97)
+        } else {
+            albedo <= if cos_o < 0.5 { 1.1 } else { 1.0 + 1e-3 }
+        }
+    });
+}
+
+/// Every check of the module's header on `named`; `albedo_ok(name, cos_o, albedo)` says which
+/// albedos the material may have.
+fn check_lobes(named: &[(&'static str, Material)], albedo_ok: impl Fn(&str, f64, f64) -> bool) {
     let mats: Vec<Material> = named.iter().map(|(_, m)| m.clone()).collect();
     let probes = run_probe(&mats);
     let n = SAMPLES as usize;
@@ -124,10 +173,26 @@ fn sampling_and_evaluation_agree_for_every_lobe() {
                     p.wi
                 );
             }
-            // 2. No energy gain: the mean weight (albedo estimate) is at most 1, and so is each
-            // weight of these white, lossless-at-best lobes.
+            // 2. No energy gain: the mean weight (albedo estimate) is at most 1 (or what
+            // `albedo_ok` allows).
             let albedo = set.iter().map(|p| p.weight).sum::<f64>() / n as f64;
-            assert!(albedo <= 1.0 + 1e-3, "{what}: albedo {albedo}");
+            eprintln!("{what}: albedo {albedo:.4}");
+            assert!(albedo_ok(name, *cos_o, albedo), "{what}: albedo {albedo}");
+            // Reciprocity: f(wo, u) = f(u, wo) wherever both are above the surface.
+            for p in set.iter().filter(|p| p.u[2] > 0.0) {
+                assert!(
+                    (p.f_ou - p.f_uo).abs() <= 2e-3 * p.f_ou.max(p.f_uo) + 1e-6,
+                    "{what}: f(wo, u) {} but f(u, wo) {} at u {:?}",
+                    p.f_ou,
+                    p.f_uo,
+                    p.u
+                );
+            }
+            // A near-delta lobe (GGX alpha 1e-3) covers too little of the sphere for uniform
+            // directions to integrate or bin its density: only 1, 2 and reciprocity hold there.
+            if mat.metallic_roughness.is_some_and(|mr| mr.roughness < 0.05) {
+                continue;
+            }
             // 3. Normalisation: the evaluated pdf integrates to P(non-delta sample drawn).
             let integral = set.iter().map(|p| p.pdf_u).sum::<f64>() * 4.0 * PI / n as f64;
             let smooth_fraction = set.iter().filter(|p| p.ok && !p.delta).count() as f64 / n as f64;

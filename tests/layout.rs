@@ -126,6 +126,7 @@ fn bindings_and_array_strides_match() {
         (BINDING_TEXTURES, "Textures", size_of::<GpuTexture>()),
         (BINDING_TEXELS, "Texels", 4),
         (BINDING_UVS, "Uvs", size_of::<GpuUv>()),
+        (BINDING_TANGENTS, "Tangents", size_of::<GpuTangents>()),
     ];
     let mut found = HashMap::new();
     for (_, var) in module.global_variables.iter() {

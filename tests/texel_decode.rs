@@ -79,6 +79,7 @@ fn check_probe<'a>(ctx: &'a Context, probe: &[u8], nodes: impl FnOnce(&mut commo
         case(ctx, "materials", BINDING_MATERIALS, o + 3, rgba, values(&mut rng, 29, |m: &mut GpuMaterial| {
             m._pad0 = 0;
             m._pad1 = 0;
+            m._pad2 = 0;
         })),
         case(ctx, "lights", BINDING_LIGHTS, o + 4, rgba, values(&mut rng, 13, |l: &mut GpuLight| l._pad0 = 0)),
         case(ctx, "emitters", BINDING_EMITTERS, o + 5, rgba, values(&mut rng, 31, |e: &mut GpuEmitter| {
@@ -92,6 +93,7 @@ fn check_probe<'a>(ctx: &'a Context, probe: &[u8], nodes: impl FnOnce(&mut commo
             u._pad1 = 0;
         })),
         case(ctx, "light picks", BINDING_LIGHT_PICKS, o + 9, rgba, values(&mut rng, 53, |p: &mut GpuLightPick| p._pad0 = 0)),
+        case(ctx, "tangents", BINDING_TANGENTS, BINDING_DECODE_OUT_TANGENTS, rgba, values(&mut rng, 19, |_: &mut GpuTangents| ())),
     ];
     let mut bindings: Vec<(u32, BindingKind)> = cases.iter().map(|c| (c.binding, BindingKind::Texels)).collect();
     bindings.extend(cases.iter().map(|c| (c.out_binding, BindingKind::Storage)));

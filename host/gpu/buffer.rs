@@ -209,7 +209,7 @@ fn copy(ctx: &Context, src: vk::Buffer, dst: vk::Buffer, len: u64, name: &str) -
 /// every Vulkan device: spec table "Mandatory format support: 32-bit components").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TexelFormat {
-    /// RGBA32UI, 16 bytes: a quarter of a GPU struct (GpuNode is 2 texels, GpuMaterial 4).
+    /// RGBA32UI, 16 bytes: a quarter of a GPU struct (GpuNode is 2 texels, GpuMaterial 6).
     Rgba32Uint,
     /// R32UI, 4 bytes: one packed RGBA8 texture texel.
     R32Uint,

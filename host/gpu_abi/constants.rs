@@ -73,11 +73,16 @@ shared_constants! {
     BINDING_SAMPLE_COUNTS = 34;
     /// The environment map (`--envmap`; `crate::prepare::envmap`): its radiance, one RGBA32F
     /// texel per map texel (as RGBA32UI bits; alpha unused), row 0 the top row...
-    BINDING_ENV_TEXELS = 36;
+    BINDING_ENV_TEXELS = 38;
     /// ... and its sampling distribution, floats as R32UI bits: the marginal CDF over the
     /// H - 1 rows of cells (H entries), then each row's conditional CDF over its W cells
     /// (W + 1 entries each).
-    BINDING_ENV_CDF = 37;
+    BINDING_ENV_CDF = 39;
+    /// Per-primitive vertex tangents by primitive id (`GpuTangents[]`): bound always, filled
+    /// only when some material has a normal map (else one zero entry).
+    BINDING_TANGENTS = 35;
+    /// The texel-decode probe's output of decoded tangents (after BINDING_TANGENTS).
+    BINDING_DECODE_OUT_TANGENTS = 36;
     /// Fractional bits of those sums: a sample's radiance c >= 0 adds round(c 2^24). Integer
     /// sums are exact and the same in any order, so a run split into batches, resumed runs and
     /// merged shards give the same bytes as one run. Quantum 6e-8; a pixel's sum holds up to
@@ -110,6 +115,14 @@ shared_constants! {
     MATERIAL_EMISSIVE = 4;
     /// The material has an alpha texture with see-through texels: rays test it (alpha.glsl).
     MATERIAL_ALPHA = 8;
+    /// glTF 2.0 metallic-roughness: `metallic`, `roughness` and the base colour make the BSDF
+    /// (bsdf.glsl), and `diffuse_texture` multiplies `diffuse` instead of replacing it.
+    MATERIAL_METALLIC_ROUGHNESS = 16;
+    /// The material has a tangent-space normal map (`normal_texture`; surface.glsl).
+    MATERIAL_NORMAL_MAP = 32;
+    /// glTF `alphaMode: BLEND`: alpha is coverage (stochastic transparency in the path tracer,
+    /// a cut-out at 0.5 in Whitted; alpha.glsl). Set with `MATERIAL_ALPHA`.
+    MATERIAL_BLEND = 64;
     /// `GpuMaterial::diffuse_texture`, `alpha_texture` and `GpuFrame::sky_texture` meaning "none".
     TEXTURE_NONE = 0xFFFF_FFFF;
 
@@ -126,6 +139,9 @@ shared_constants! {
     SPEC_HAS_SPOT = 8;
     SPEC_HAS_SKY = 9;
     SPEC_HAS_ENVMAP = 16;
+    // 10-12 are the workgroup sizes above.
+    SPEC_HAS_METALLIC_ROUGHNESS = 13;
+    SPEC_HAS_NORMAL_MAP = 14;
 
     /// Light kinds (`GpuLight::kind`).
     LIGHT_POINT = 0;

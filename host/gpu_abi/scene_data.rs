@@ -22,13 +22,32 @@ gpu_structs! {
         pub shininess: f32,
         pub emission: [f32; 3],
         pub ior: f32,
-        /// Index into the texture table whose sRGB colour replaces `diffuse`, or `TEXTURE_NONE`.
+        /// Index into the texture table of the sRGB colour texture, or `TEXTURE_NONE`: it replaces
+        /// `diffuse` (MTL, lab) or, with `MATERIAL_METALLIC_ROUGHNESS`, multiplies it (glTF's base
+        /// colour texture times its factor).
         pub diffuse_texture: u32,
-        /// Index of the texture whose alpha cuts the surface out (alpha < 0.2 is see-through), or
-        /// `TEXTURE_NONE`. Only read when `flags` has `MATERIAL_ALPHA`.
+        /// Index of the texture whose alpha cuts the surface out (alpha < `alpha_cutoff` is
+        /// see-through), or `TEXTURE_NONE`. Only read when `flags` has `MATERIAL_ALPHA`.
         pub alpha_texture: u32,
+        /// glTF `emissiveTexture` (sRGB), multiplying `emission`, or `TEXTURE_NONE`.
+        pub emission_texture: u32,
+        /// Alpha below this is see-through (0.2, the lab's rule, for MTL; glTF `alphaCutoff`).
+        /// With `MATERIAL_BLEND` the path tracer reads alpha as coverage instead (alpha.glsl).
+        pub alpha_cutoff: f32,
+        /// glTF `metallicFactor` and `roughnessFactor` (perceptual: GGX alpha = roughness^2);
+        /// read with `MATERIAL_METALLIC_ROUGHNESS` only.
+        pub metallic: f32,
+        pub roughness: f32,
+        /// glTF `metallicRoughnessTexture` (linear; blue scales metallic, green roughness), or
+        /// `TEXTURE_NONE`.
+        pub metallic_roughness_texture: u32,
+        /// glTF `normalTexture.scale`: scales the tangent-space normal's x and y.
+        pub normal_scale: f32,
+        /// Tangent-space normal map (linear), read with `MATERIAL_NORMAL_MAP`, or `TEXTURE_NONE`.
+        pub normal_texture: u32,
         pub _pad0: u32,
         pub _pad1: u32,
+        pub _pad2: u32,
     }
 
     /// One texture in the texel atlas (`BINDING_TEXELS`): texel (x, y) of this texture, row 0 the
@@ -47,6 +66,14 @@ gpu_structs! {
         pub uv2: [f32; 2],
         pub _pad0: u32,
         pub _pad1: u32,
+    }
+
+    /// A triangle's vertex tangents by primitive id (xyz, w = +-1 the bitangent's sign, as
+    /// glTF's TANGENT: bitangent = w * cross(normal, tangent)); zero where none could be made.
+    pub struct GpuTangents {
+        pub t0: [f32; 4],
+        pub t1: [f32; 4],
+        pub t2: [f32; 4],
     }
 
     /// A point, directional or spot light. See `crate::scene::Light` for the units.
@@ -85,9 +112,10 @@ gpu_structs! {
 }
 
 const _: () = assert!(std::mem::size_of::<GpuShading>() == 48);
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 64);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 96);
 const _: () = assert!(std::mem::size_of::<GpuTexture>() == 16);
 const _: () = assert!(std::mem::size_of::<GpuUv>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuTangents>() == 48);
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 48);
 const _: () = assert!(std::mem::size_of::<GpuEmitter>() == 64);
 const _: () = assert!(std::mem::size_of::<GpuLightPick>() == 16);

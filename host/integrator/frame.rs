@@ -58,5 +58,6 @@ pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_UVS, BindingKind::Texels),
     (BINDING_ENV_TEXELS, BindingKind::Texels),
     (BINDING_ENV_CDF, BindingKind::Texels),
+    (BINDING_TANGENTS, BindingKind::Texels),
     (BINDING_FRAME, BindingKind::Uniform),
 ];

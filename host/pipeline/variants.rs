@@ -34,7 +34,7 @@ pub struct Shader {
 pub const SHADERS: &[Shader] = &[
     // The integrators trace through alpha cut-outs (shaders/include/leaf.glsl).
     Shader { name: "whitted", source: "whitted.comp", defines: &["ALPHA_TEST"], per_layout: true, role: Role::Product },
-    Shader { name: "path", source: "path.comp", defines: &["ALPHA_TEST"], per_layout: true, role: Role::Product },
+    Shader { name: "path", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA"], per_layout: true, role: Role::Product },
     // Batch ray queries see geometry only.
     Shader { name: "trace", source: "trace.comp", defines: &[], per_layout: true, role: Role::Product },
     // The textbook intersection tests, only to measure what the robust ones cost

@@ -32,7 +32,7 @@ use std::time::Instant;
 use xxhash_rust::xxh3::{xxh3_128, Xxh3};
 
 /// Bumped whenever the file layout or the meaning of a stored array changes.
-pub const CACHE_FORMAT: u32 = 2;
+pub const CACHE_FORMAT: u32 = 3;
 const MAGIC: &[u8; 8] = b"VKRTPREP";
 const HEADER_BYTES: usize = 64;
 /// Arrays start at multiples of this: every GPU struct's alignment divides it.
@@ -270,11 +270,12 @@ struct Meta {
 }
 
 /// The arrays of an entry, in file order.
-const ARRAYS: [&str; 10] = ["nodes", "triangles", "shading", "materials", "lights", "emitters", "uvs", "textures", "texels", "light picks"];
+const ARRAYS: [&str; 11] =
+    ["nodes", "triangles", "shading", "materials", "lights", "emitters", "uvs", "textures", "texels", "light picks", "tangents"];
 
-fn array_bytes<'a>(a: &SceneArrays<'a>) -> [&'a [u8]; 10] {
+fn array_bytes<'a>(a: &SceneArrays<'a>) -> [&'a [u8]; 11] {
     use bytemuck::cast_slice as b;
-    [a.nodes, b(a.triangles), b(a.shading), b(a.materials), b(a.lights), b(a.emitters), b(a.uvs), b(a.textures), b(a.texels), b(a.picks)]
+    [a.nodes, b(a.triangles), b(a.shading), b(a.materials), b(a.lights), b(a.emitters), b(a.uvs), b(a.textures), b(a.texels), b(a.picks), b(a.tangents)]
 }
 
 /// A mapped cache entry, checked.
@@ -349,6 +350,7 @@ impl CachedScene {
             textures: self.array(7)?,
             texels: self.array(8)?,
             picks: self.array(9)?,
+            tangents: self.array(10)?,
             total_weight: self.meta.total_weight,
         })
     }

@@ -23,7 +23,11 @@ pub const SPOT: Feature = Feature { name: "spot lights", spec_id: SPEC_HAS_SPOT 
 pub const SKY: Feature = Feature { name: "sky", spec_id: SPEC_HAS_SKY };
 pub const ENVMAP: Feature = Feature { name: "environment map", spec_id: SPEC_HAS_ENVMAP };
 
-pub const ALL: [Feature; 11] = [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP];
+pub const METALLIC_ROUGHNESS: Feature = Feature { name: "metallic-roughness", spec_id: SPEC_HAS_METALLIC_ROUGHNESS };
+pub const NORMAL_MAP: Feature = Feature { name: "normal maps", spec_id: SPEC_HAS_NORMAL_MAP };
+
+pub const ALL: [Feature; 13] =
+    [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP, METALLIC_ROUGHNESS, NORMAL_MAP];
 
 /// Which features a scene uses, each with the reason (for `--verbose`).
 #[derive(Debug, Clone, PartialEq)]
@@ -66,7 +70,7 @@ impl Features {
             if n == 0 { (false, format!("no {what}")) } else { (true, format!("{n} {what}")) }
         };
         let entries = vec![
-            (TEXTURES, why(named(&|m| m.diffuse_texture.is_some()), "materials with a diffuse texture")),
+            (TEXTURES, why(named(&|m| m.has_textures()), "materials with a texture")),
             (ALPHA, why(named(&|m| m.alpha_texture.is_some()), "materials with see-through texels")),
             (DIELECTRIC, why(named(&|m| m.is_dielectric()), "dielectric materials")),
             (MIRROR, why(named(&|m| m.is_mirror() && !m.is_dielectric()), "mirror materials")),
@@ -77,6 +81,8 @@ impl Features {
             (SPOT, count_lights(&|l| matches!(l, Light::Spot { .. }), "spot lights")),
             (SKY, sky_use(&scene.sky)),
             (ENVMAP, envmap_use(&scene.sky)),
+            (METALLIC_ROUGHNESS, why(named(&|m| m.metallic_roughness.is_some()), "metallic-roughness materials")),
+            (NORMAL_MAP, why(named(&|m| m.normal_texture.is_some()), "materials with a normal map")),
         ];
         Self { entries: entries.into_iter().map(|(f, (on, w))| (f, on, w)).collect() }
     }

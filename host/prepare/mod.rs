@@ -19,7 +19,7 @@ use crate::accel::{self, FlatBvh, LayoutKind};
 use crate::bvh::{self, BuildConfig, BuilderKind};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::TEXTURE_NONE;
-use crate::gpu_abi::{GpuEmitter, GpuLight, GpuLightPick, GpuMaterial, GpuPush, GpuShading, GpuTexture, GpuTriangle, GpuUv};
+use crate::gpu_abi::{GpuEmitter, GpuLight, GpuLightPick, GpuMaterial, GpuPush, GpuShading, GpuTangents, GpuTexture, GpuTriangle, GpuUv};
 use crate::scene::camera::CameraFrame;
 use crate::scene::{Camera, Scene, Sky};
 use anyhow::{Context as _, Result};
@@ -152,6 +152,8 @@ pub struct SceneArrays<'a> {
     pub lights: &'a [GpuLight],
     pub emitters: &'a [GpuEmitter],
     pub uvs: &'a [GpuUv],
+    /// Vertex tangents by primitive id; empty unless some material has a normal map.
+    pub tangents: &'a [GpuTangents],
     pub textures: &'a [GpuTexture],
     pub texels: &'a [u32],
     pub picks: &'a [GpuLightPick],
@@ -172,6 +174,7 @@ impl PreparedScene {
             lights: &self.buffers.lights,
             emitters: &self.buffers.emitters,
             uvs: &self.buffers.uvs,
+            tangents: &self.buffers.tangents,
             textures: &self.atlas.table,
             texels: &self.atlas.texels,
             picks: &self.lights.picks,

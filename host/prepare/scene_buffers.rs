@@ -2,7 +2,7 @@
 
 use super::texture_atlas::gpu_index;
 use crate::gpu_abi::constants::*;
-use crate::gpu_abi::{GpuEmitter, GpuLight, GpuMaterial, GpuShading, GpuUv};
+use crate::gpu_abi::{GpuEmitter, GpuLight, GpuMaterial, GpuShading, GpuTangents, GpuUv};
 use crate::scene::{Light, Material, Scene};
 
 /// Everything the shaders read about a scene except its BVH.
@@ -15,6 +15,9 @@ pub struct SceneBuffers {
     /// Texture coordinates by primitive id; empty when no material has a texture (the shaders
     /// then never read them, and big untextured scenes save 32 bytes a triangle).
     pub uvs: Vec<GpuUv>,
+    /// Vertex tangents by primitive id (`Scene::tangents`); empty when no material has a
+    /// normal map, for the same reason.
+    pub tangents: Vec<GpuTangents>,
 }
 
 pub fn gpu_material(m: &Material) -> GpuMaterial {
@@ -30,7 +33,17 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
     }
     if m.alpha_texture.is_some() {
         flags |= MATERIAL_ALPHA;
+        if m.alpha_blend {
+            flags |= MATERIAL_BLEND;
+        }
     }
+    if m.metallic_roughness.is_some() {
+        flags |= MATERIAL_METALLIC_ROUGHNESS;
+    }
+    if m.normal_texture.is_some() {
+        flags |= MATERIAL_NORMAL_MAP;
+    }
+    let mr = m.metallic_roughness.unwrap_or_default();
     GpuMaterial {
         diffuse: m.diffuse.to_array(),
         flags,
@@ -40,8 +53,16 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
         ior: m.ior,
         diffuse_texture: gpu_index(m.diffuse_texture),
         alpha_texture: gpu_index(m.alpha_texture),
+        emission_texture: gpu_index(m.emission_texture),
+        alpha_cutoff: m.alpha_cutoff,
+        metallic: mr.metallic.clamp(0.0, 1.0),
+        roughness: mr.roughness.clamp(0.0, 1.0),
+        metallic_roughness_texture: gpu_index(mr.texture),
+        normal_scale: m.normal_scale,
+        normal_texture: gpu_index(m.normal_texture),
         _pad0: 0,
         _pad1: 0,
+        _pad2: 0,
     }
 }
 
@@ -94,12 +115,16 @@ impl SceneBuffers {
                     area: t.area(),
                     v2: t.p[2].to_array(),
                     _pad0: 0,
+                    // The factor only, also with an emission texture: the light picker weighs a
+                    // triangle by it and the shader multiplies in the texel at the sampled point
+                    // (lights.glsl), so light sampling stays unbiased (a dark texture only makes
+                    // the pick less well matched to the power).
                     radiance: scene.materials[t.material as usize].emission.to_array(),
                     _pad1: 0,
                 }
             })
             .collect();
-        let textured = scene.materials.iter().any(|m| m.diffuse_texture.is_some() || m.alpha_texture.is_some());
+        let textured = scene.materials.iter().any(|m| m.has_textures());
         let uvs = if textured {
             scene
                 .triangles
@@ -112,8 +137,20 @@ impl SceneBuffers {
         } else {
             Vec::new()
         };
+        let normal_mapped = scene.materials.iter().any(|m| m.normal_texture.is_some());
+        let tangents = if normal_mapped {
+            (0..scene.triangles.len())
+                .map(|i| {
+                    let t = scene.tangents.get(i).copied().unwrap_or_default();
+                    GpuTangents { t0: t[0].to_array(), t1: t[1].to_array(), t2: t[2].to_array() }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Self {
             uvs,
+            tangents,
             shading,
             materials: scene.materials.iter().map(gpu_material).collect(),
             lights: scene.lights.iter().map(gpu_light).collect(),

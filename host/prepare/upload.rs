@@ -60,6 +60,7 @@ pub struct GpuScene<'a> {
     pub textures: TexelArray<'a>,
     pub texels: TexelArray<'a>,
     pub uvs: TexelArray<'a>,
+    pub tangents: TexelArray<'a>,
     /// The path tracer's light-selection alias table (`GpuLightPick[]`).
     pub light_picks: TexelArray<'a>,
     pub light_count: u32,
@@ -103,6 +104,7 @@ impl<'a> GpuScene<'a> {
             // One packed RGBA8 texel per R32UI texel, decoded in the shader.
             texels: TexelArray::with_data(ctx, "texels", a.texels, R32Uint)?,
             uvs: TexelArray::with_data(ctx, "texture coordinates", a.uvs, Rgba32Uint)?,
+            tangents: TexelArray::with_data(ctx, "tangents", a.tangents, Rgba32Uint)?,
             light_picks: TexelArray::with_data(ctx, "light picks", a.picks, Rgba32Uint)?,
             light_count: a.lights.len() as u32,
             emitter_count: a.emitters.len() as u32,
@@ -146,7 +148,7 @@ impl<'a> GpuScene<'a> {
     }
 
     /// The scene's shading arrays by binding number (texel buffers, like the BVH's).
-    pub fn shading_bindings(&self) -> [(u32, &TexelArray<'a>); 9] {
+    pub fn shading_bindings(&self) -> [(u32, &TexelArray<'a>); 10] {
         [
             (BINDING_SHADING, &self.shading),
             (BINDING_MATERIALS, &self.materials),
@@ -157,6 +159,7 @@ impl<'a> GpuScene<'a> {
             (BINDING_UVS, &self.uvs),
             (BINDING_ENV_TEXELS, &self.env_texels),
             (BINDING_ENV_CDF, &self.env_cdf),
+            (BINDING_TANGENTS, &self.tangents),
         ]
     }
 

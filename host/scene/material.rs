@@ -110,4 +110,12 @@ impl Material {
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
     }
+    /// Whether shading reads any texture of this material (and so texture coordinates).
+    pub fn has_textures(&self) -> bool {
+        self.diffuse_texture.is_some()
+            || self.alpha_texture.is_some()
+            || self.emission_texture.is_some()
+            || self.normal_texture.is_some()
+            || self.metallic_roughness.is_some_and(|mr| mr.texture.is_some())
+    }
 }

@@ -8,6 +8,19 @@
 // - mirror (illum 3, 5): a perfect reflection weighted by Ks.
 // - dielectric (illum 4, 6, 7, 9): a smooth interface of index Ni, reflecting with the Fresnel
 //   reflectance and refracting otherwise; untinted.
+// - metallic-roughness (glTF 2.0 materials, MATERIAL_METALLIC_ROUGHNESS): the specification's
+//   Appendix B, mix(dielectric_brdf, metal_brdf, metallic), with
+//     metal_brdf      = GGX specular * Schlick Fresnel with f0 = base colour,
+//     dielectric_brdf = fresnel_mix(ior 1.5: f0 = 0.04, Lambert(base colour), GGX specular),
+//   i.e. f = (1 - metallic) (1 - F(0.04)) base / pi + F(mix(0.04, base, metallic)) D G2 /
+//   (4 |n.wo| |n.wi|), Schlick's F (Schlick 1994) at wo.h = wi.h, so f is reciprocal. GGX
+//   alpha = roughness^2 (at least MR_MIN_ALPHA), Smith height-correlated G2 and visible-normal
+//   sampling as for the glossy lobe. The lobe is chosen by an estimate of its weight (Schlick
+//   at wo.z, mr_spec_prob), and the density is the exact mixture of both lobes' densities.
+//   Energy: the metal lobe loses, never gains (GGX with Smith shadowing); the dielectric's
+//   fresnel_mix, as the specification defines it, is not energy conserving near grazing views
+//   of smooth surfaces (the Lambert term is weighted by 1 - F at wo.h, not by what the
+//   specular lobe reflects): tests/bsdf.rs states the albedo it measures.
 // Energy: the specular lobe takes Ks and the Lambert lobe Kd * (1 - max(Ks)), so the albedo
 // never exceeds 1; GGX with Smith shadowing loses, never gains, energy.
 // Lobes the scene lacks are compiled out by the HAS_* specialization constants (features.glsl).
@@ -29,10 +42,34 @@ struct Lobes {
     bool mirror;
     bool dielectric;
     float ior;
+    // Metallic-roughness: kd is then (1 - metallic) base colour, ks the Fresnel f0
+    // mix(0.04, base, metallic).
+    bool mr;
 };
+
+// GGX alpha of a metallic-roughness material with roughness 0: a near-mirror that the float
+// arithmetic of D and of the visible-normal sampling still handles (D's peak is 1 / (pi a^2)).
+const float MR_MIN_ALPHA = 1e-3;
+// f0 of glTF's dielectric (ior 1.5): ((1.5 - 1) / (1.5 + 1))^2.
+const float MR_DIELECTRIC_F0 = 0.04;
 
 Lobes lobes_of(GpuMaterial m) {
     Lobes l;
+    l.mr = HAS_METALLIC_ROUGHNESS && (m.flags & MATERIAL_METALLIC_ROUGHNESS) != 0u;
+    if (l.mr) {
+        vec3 base = clamp(m.diffuse, 0.0, 1.0);
+        float metallic = clamp(m.metallic, 0.0, 1.0);
+        float r = clamp(m.roughness, 0.0, 1.0);
+        l.dielectric = false;
+        l.mirror = false;
+        l.ior = 1.5;
+        l.kd = (1.0 - metallic) * base;
+        l.ks = mix(vec3(MR_DIELECTRIC_F0), base, metallic);
+        l.alpha = max(r * r, MR_MIN_ALPHA);
+        // Depends on wo: mr_spec_prob.
+        l.p_spec = 0.0;
+        return l;
+    }
     l.dielectric = HAS_DIELECTRIC && (m.flags & MATERIAL_DIELECTRIC) != 0u;
     l.mirror = HAS_MIRROR && !l.dielectric && (m.flags & MATERIAL_MIRROR) != 0u;
     l.ior = m.ior;
@@ -47,6 +84,8 @@ Lobes lobes_of(GpuMaterial m) {
 
 // True if some lobe is not a Dirac delta, so that light sampling can help.
 bool has_smooth_lobes(Lobes l) {
+    // Schlick's grazing term reflects even with a black base colour.
+    if (HAS_METALLIC_ROUGHNESS && l.mr) return true;
     return !l.dielectric && (l.p_spec < 1.0 || !l.mirror) && (mean3(l.kd) + mean3(l.ks) > 0.0);
 }
 
@@ -69,10 +108,39 @@ float ggx_pdf(vec3 wo, vec3 h, float a) {
     return ggx_d(h, a) / ((1.0 + ggx_lambda(wo, a)) * 4.0 * wo.z);
 }
 
+float pow5(float x) {
+    float x2 = x * x;
+    return x2 * x2 * x;
+}
+
+// Probability of sampling the metallic-roughness material's specular lobe at wo: the lobes'
+// weights estimated by Schlick's Fresnel at wo.z (the specular lobe reflects about F, the
+// Lambert one about (1 - F(0.04)) (1 - metallic) base).
+float mr_spec_prob(Lobes l, vec3 wo) {
+    float s = pow5(1.0 - clamp(wo.z, 0.0, 1.0));
+    float ws = mean3(l.ks + (1.0 - l.ks) * s);
+    float wd = mean3(l.kd) * (1.0 - (MR_DIELECTRIC_F0 + (1.0 - MR_DIELECTRIC_F0) * s));
+    return ws + wd > 0.0 ? ws / (ws + wd) : 1.0;
+}
+
+// f and the mixture density of the metallic-roughness material, for wo.z > 0 and wi.z > 0.
+vec3 mr_eval(Lobes l, vec3 wo, vec3 wi, out float pdf) {
+    vec3 h = normalize(wo + wi);
+    float s = pow5(1.0 - clamp(dot(wo, h), 0.0, 1.0));
+    vec3 f_spec = l.ks + (1.0 - l.ks) * s;
+    float f_diel = MR_DIELECTRIC_F0 + (1.0 - MR_DIELECTRIC_F0) * s;
+    float g2 = 1.0 / (1.0 + ggx_lambda(wo, l.alpha) + ggx_lambda(wi, l.alpha));
+    float d = ggx_d(h, l.alpha);
+    float p_spec = mr_spec_prob(l, wo);
+    pdf = (1.0 - p_spec) * wi.z / PI + p_spec * ggx_pdf(wo, h, l.alpha);
+    return (1.0 - f_diel) * l.kd / PI + f_spec * (d * g2 / (4.0 * wo.z * wi.z));
+}
+
 // f(wo, wi) and its sampling density (solid angle) over the non-delta lobes, for wo.z > 0.
 vec3 bsdf_eval(Lobes l, vec3 wo, vec3 wi, out float pdf) {
     pdf = 0.0;
     if (l.dielectric || wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
+    if (HAS_METALLIC_ROUGHNESS && l.mr) return mr_eval(l, wo, wi, pdf);
     vec3 f = l.kd / PI;
     pdf = (1.0 - l.p_spec) * wi.z / PI;
     if (HAS_GLOSSY && !l.mirror && l.p_spec > 0.0) {
@@ -109,6 +177,23 @@ struct BsdfSample {
     bool delta;
 };
 
+// Draws wi from the metallic-roughness mixture: the specular lobe by visible normals, else
+// Lambert; the density is the whole mixture's (mr_eval), so MIS with light sampling sees the
+// same density for a direction however it was drawn.
+bool mr_sample(Lobes l, vec3 wo, float u_lobe, vec2 u, out BsdfSample bs) {
+    bs.delta = false;
+    if (u_lobe < mr_spec_prob(l, wo)) {
+        bs.wi = reflect(-wo, sample_ggx_visible_normal(wo, l.alpha, u));
+    } else {
+        bs.wi = sample_cosine_hemisphere(u);
+    }
+    if (bs.wi.z <= 0.0) return false;
+    vec3 f = mr_eval(l, wo, bs.wi, bs.pdf);
+    if (!(bs.pdf > 0.0)) return false;
+    bs.weight = f * bs.wi.z / bs.pdf;
+    return true;
+}
+
 // Draws wi for wo (wo.z > 0). `front`: wo is on the front (outside) side, for dielectrics.
 // Returns false when the sample carries no energy.
 bool bsdf_sample(Lobes l, vec3 wo, bool front, float u_lobe, vec2 u, out BsdfSample bs) {
@@ -117,6 +202,7 @@ bool bsdf_sample(Lobes l, vec3 wo, bool front, float u_lobe, vec2 u, out BsdfSam
     bs.pdf = 0.0;
     bs.delta = true;
     if (wo.z <= 0.0) return false;
+    if (HAS_METALLIC_ROUGHNESS && l.mr) return mr_sample(l, wo, u_lobe, u, bs);
     if (HAS_DIELECTRIC && l.dielectric) {
         float eta = front ? 1.0 / l.ior : l.ior;
         float cos_t;

@@ -17,5 +17,7 @@ layout(constant_id = SPEC_HAS_DIRECTIONAL) const bool HAS_DIRECTIONAL = true;
 layout(constant_id = SPEC_HAS_SPOT) const bool HAS_SPOT = true;
 layout(constant_id = SPEC_HAS_SKY) const bool HAS_SKY = true;
 layout(constant_id = SPEC_HAS_ENVMAP) const bool HAS_ENVMAP = true;
+layout(constant_id = SPEC_HAS_METALLIC_ROUGHNESS) const bool HAS_METALLIC_ROUGHNESS = true;
+layout(constant_id = SPEC_HAS_NORMAL_MAP) const bool HAS_NORMAL_MAP = true;
 
 #endif

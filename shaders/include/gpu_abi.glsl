@@ -66,8 +66,22 @@ struct GpuMaterial {
     float ior;
     uint diffuse_texture;
     uint alpha_texture;
+    uint emission_texture;
+    float alpha_cutoff;
+    float metallic;
+    float roughness;
+    uint metallic_roughness_texture;
+    float normal_scale;
+    uint normal_texture;
     uint _pad0;
     uint _pad1;
+    uint _pad2;
+};
+
+struct GpuTangents {
+    vec4 t0;
+    vec4 t1;
+    vec4 t2;
 };
 
 struct GpuTexture {

@@ -49,7 +49,7 @@ bool test_leaf(uint leaf, RayPre r, inout float tmax, inout Hit hit, bool any_hi
         if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
 #ifdef ALPHA_TEST
             // A see-through texel is no hit at all (alpha.glsl).
-            if (!alpha_passes(tri.prim, u, v)) continue;
+            if (!alpha_passes(tri.prim, u, v, r)) continue;
 #endif
             tmax = t;
             hit.t = t;

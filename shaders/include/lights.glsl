@@ -8,6 +8,7 @@
 #include "sampling.glsl"
 #include "scene_bindings.glsl"
 #include "environment.glsl"
+#include "emission.glsl"
 
 // Entry j of the table with probability load_light_pick(j).pmf (Vose 1991). u is consumed and
 // given back rescaled to [0, 1) within the part of [0, 1) that chose j, so that the caller can
@@ -74,7 +75,7 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
         // Emitters emit from their front face only.
         if (cos_light <= 0.0 || d2 <= 0.0) return false;
         ls.pdf = emitter_area_pdf(em.radiance) * d2 / cos_light;
-        ls.li_over_pdf = em.radiance / ls.pdf;
+        ls.li_over_pdf = emission_at(em.prim, b.y, b.z, em.radiance) / ls.pdf;
         // Between the two offset points, so that neither surface shadows itself.
         ls.span = offset_ray(q, en, frame.scene_scale) - origin;
         ls.span_tmax = 1.0;

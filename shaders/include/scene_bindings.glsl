@@ -29,6 +29,7 @@ layout(set = 0, binding = BINDING_UVS) uniform utextureBuffer uv_texels;
 // The environment map: RGBA32F radiance as bits, and its sampling CDFs (environment.glsl).
 layout(set = 0, binding = BINDING_ENV_TEXELS) uniform utextureBuffer env_texels;
 layout(set = 0, binding = BINDING_ENV_CDF) uniform utextureBuffer env_cdf_texels;
+layout(set = 0, binding = BINDING_TANGENTS) uniform utextureBuffer tangent_texels;
 
 // 48 B: n0, material | n1, pad | n2, pad.
 GpuShading load_shading(uint i) {
@@ -38,14 +39,19 @@ GpuShading load_shading(uint i) {
     return GpuShading(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), 0u, uintBitsToFloat(c.xyz), 0u);
 }
 
-// 64 B: diffuse, flags | specular, shininess | emission, ior | diffuse_texture, alpha_texture, pad, pad.
+// 96 B: diffuse, flags | specular, shininess | emission, ior
+//     | diffuse_texture, alpha_texture, emission_texture, alpha_cutoff
+//     | metallic, roughness, metallic_roughness_texture, normal_scale | normal_texture, pad x3.
 GpuMaterial load_material(uint i) {
-    uvec4 a = texelFetch(material_texels, int(4u * i));
-    uvec4 b = texelFetch(material_texels, int(4u * i + 1u));
-    uvec4 c = texelFetch(material_texels, int(4u * i + 2u));
-    uvec4 d = texelFetch(material_texels, int(4u * i + 3u));
+    uvec4 a = texelFetch(material_texels, int(6u * i));
+    uvec4 b = texelFetch(material_texels, int(6u * i + 1u));
+    uvec4 c = texelFetch(material_texels, int(6u * i + 2u));
+    uvec4 d = texelFetch(material_texels, int(6u * i + 3u));
+    uvec4 e = texelFetch(material_texels, int(6u * i + 4u));
+    uvec4 f = texelFetch(material_texels, int(6u * i + 5u));
     return GpuMaterial(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
-                       uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), d.x, d.y, 0u, 0u);
+                       uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), d.x, d.y, d.z, uintBitsToFloat(d.w),
+                       uintBitsToFloat(e.x), uintBitsToFloat(e.y), e.z, uintBitsToFloat(e.w), f.x, 0u, 0u, 0u);
 }
 
 // 48 B: position, kind | direction, radius | intensity, pad.
@@ -82,6 +88,14 @@ GpuUv load_uv(uint i) {
     uvec4 a = texelFetch(uv_texels, int(2u * i));
     uvec4 b = texelFetch(uv_texels, int(2u * i + 1u));
     return GpuUv(uintBitsToFloat(a.xy), uintBitsToFloat(a.zw), uintBitsToFloat(b.xy), 0u, 0u);
+}
+
+// 48 B: t0 | t1 | t2.
+GpuTangents load_tangents(uint i) {
+    uvec4 a = texelFetch(tangent_texels, int(3u * i));
+    uvec4 b = texelFetch(tangent_texels, int(3u * i + 1u));
+    uvec4 c = texelFetch(tangent_texels, int(3u * i + 2u));
+    return GpuTangents(uintBitsToFloat(a), uintBitsToFloat(b), uintBitsToFloat(c));
 }
 #endif
 

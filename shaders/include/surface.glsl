@@ -15,6 +15,8 @@ struct Surface {
     // True if the ray hit the front (counter-clockwise) face.
     bool front;
     uint material;
+    // Unit direction back along the ray (toward the viewer): the normal map's rule needs it.
+    vec3 view;
 };
 
 Surface surface_at(Hit h, vec3 dir) {
@@ -34,14 +36,82 @@ Surface surface_at(Hit h, vec3 dir) {
     // Vertex normals of the back side point away from the viewer: flip them with the face.
     s.ns = dot(ns, s.ng) < 0.0 ? -ns : ns;
     s.material = sh.material;
+    s.view = -normalize(dir);
     return s;
 }
 
-// The material at a hit, its diffuse colour replaced by the texture's there if it has one.
-GpuMaterial material_at(Hit h, Surface s) {
+// The shading normal at hit h from the material's tangent-space normal map: the texel
+// (2 c - 1) * (scale, scale, 1) in the frame (T, B, N) of the interpolated vertex normal N, the
+// vertex tangent T made orthogonal to it and B = w cross(N, T) (glTF 2.0 specification,
+// normalTexture; MikkTSpace's convention, host/scene/tangents.rs). Where the triangle has no
+// tangent (zero), the interpolated normal stays.
+//
+// The rule that keeps light from leaking through the surface: the mapped normal, turned to the
+// side of the face the ray is on, is bent back toward the geometric normal ng until it is at
+// least NORMAL_MAP_MIN_COS above the geometric surface, and then toward the viewer until the
+// viewer is at least as far above its tangent plane (bending toward the viewer, who is on
+// ng's side, only raises the normal further above the surface). So wo.z > 0 in the shading
+// frame, no sample is lost to a normal facing away, and the path tracer's rejection of
+// reflections that cross the geometric surface (path.comp) and of lights behind it
+// (next_event) does the rest: light arrives and leaves on the side the ray came from only.
+// This is the simple end of what pbrt-v4 (NormalMap, then FaceForward) and Schüßler et al.
+// 2017 ("Microfacet-based normal mapping for robust Monte Carlo path tracing") do; it does not
+// restore the energy a tilted normal loses or gains.
+const float NORMAL_MAP_MIN_COS = 0.01;
+
+vec3 bend_above(vec3 n, vec3 axis) {
+    float c = dot(n, axis);
+    return c >= NORMAL_MAP_MIN_COS ? n : normalize(n + (NORMAL_MAP_MIN_COS - c) * axis);
+}
+
+vec3 normal_mapped(Hit h, Surface s, GpuMaterial m, vec2 uv) {
+    GpuShading sh = load_shading(h.prim);
+    GpuTangents tg = load_tangents(h.prim);
+    float w = 1.0 - h.u - h.v;
+    vec4 t4 = w * tg.t0 + h.u * tg.t1 + h.v * tg.t2;
+    vec3 n = w * sh.n0 + h.u * sh.n1 + h.v * sh.n2;
+    float nlen = length(n);
+    // The file's side of the surface: the vertex normal as interpolated, else the front face's.
+    n = nlen > 0.0 ? n / nlen : (s.front ? s.ng : -s.ng);
+    vec3 t = t4.xyz - n * dot(n, t4.xyz);
+    float tlen = length(t);
+    if (!(tlen > 1e-8)) return s.ns;
+    t /= tlen;
+    vec3 b = (t4.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+    vec3 c = texture_uv(m.normal_texture, uv, false).xyz * 2.0 - 1.0;
+    c.xy *= m.normal_scale;
+    vec3 mapped = c.x * t + c.y * b + c.z * n;
+    float len = length(mapped);
+    if (!(len > 0.0) || isinf(len)) return s.ns;
+    mapped /= len;
+    // Turned with the face, like the vertex normals (surface_at).
+    if (!s.front) mapped = -mapped;
+    return bend_above(bend_above(mapped, s.ng), s.view);
+}
+
+// The material at a hit with its textures applied: the diffuse (base) colour texture replaces
+// Kd for MTL and lab materials (the lab renderer's rule) and multiplies the base colour factor
+// for glTF metallic-roughness ones (glTF 2.0 specification, section 3.9.2); the
+// metallic-roughness texture's blue channel scales metallic and its green roughness; the
+// emission texture multiplies the emission. A normal map replaces s.ns (normal_mapped).
+GpuMaterial material_at(Hit h, inout Surface s) {
     GpuMaterial m = load_material(s.material);
-    if (HAS_TEXTURES && m.diffuse_texture != TEXTURE_NONE) {
-        m.diffuse = texture_uv(m.diffuse_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+    if (!HAS_TEXTURES) return m;
+    bool mr = HAS_METALLIC_ROUGHNESS && (m.flags & MATERIAL_METALLIC_ROUGHNESS) != 0u;
+    if (m.diffuse_texture != TEXTURE_NONE) {
+        vec3 c = texture_uv(m.diffuse_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+        m.diffuse = mr ? m.diffuse * c : c;
+    }
+    if (mr && m.metallic_roughness_texture != TEXTURE_NONE) {
+        vec4 c = texture_uv(m.metallic_roughness_texture, uv_at(h.prim, h.u, h.v), false);
+        m.metallic *= c.b;
+        m.roughness *= c.g;
+    }
+    if (m.emission_texture != TEXTURE_NONE) {
+        m.emission *= texture_uv(m.emission_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+    }
+    if (HAS_NORMAL_MAP && (m.flags & MATERIAL_NORMAL_MAP) != 0u) {
+        s.ns = normal_mapped(h, s, m, uv_at(h.prim, h.u, h.v));
     }
     return m;
 }

@@ -1,10 +1,11 @@
 #version 460
 // Runs the path tracer's BSDF code (shaders/include/bsdf.glsl) on test inputs so tests/bsdf.rs
 // can check sampling against evaluation. Invocation i: material i / (PROBE_ANGLES * n),
-// outgoing angle (i / n) % PROBE_ANGLES, where n = push.sample_count. Writes three vec4:
+// outgoing angle (i / n) % PROBE_ANGLES, where n = push.sample_count. Writes four vec4:
 //   [wi, pdf from sampling (-1 if the sample failed)]
 //   [pdf from bsdf_eval(wi), mean(weight), 1 if delta, 1 if the sample succeeded]
-//   [u, bsdf_eval's pdf at u], u a uniform direction on the sphere.
+//   [u, bsdf_eval's pdf at u], u a uniform direction on the sphere
+//   [f(wo, u), f(u, wo)]: both means over the channels, for reciprocity (0 if u.z <= 0).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 
@@ -39,14 +40,17 @@ void main() {
     bool ok = bsdf_sample(l, wo, true, u_lobe, u, bs);
     float pdf_eval;
     bsdf_eval(l, wo, bs.wi, pdf_eval);
-    outv[3u * i] = vec4(bs.wi, ok ? bs.pdf : -1.0);
-    outv[3u * i + 1u] = vec4(pdf_eval, ok ? mean3(bs.weight) : 0.0, bs.delta ? 1.0 : 0.0, ok ? 1.0 : 0.0);
+    outv[4u * i] = vec4(bs.wi, ok ? bs.pdf : -1.0);
+    outv[4u * i + 1u] = vec4(pdf_eval, ok ? mean3(bs.weight) : 0.0, bs.delta ? 1.0 : 0.0, ok ? 1.0 : 0.0);
     // A uniform direction: z uniform in [-1, 1], phi uniform (Archimedes).
     float z = 2.0 * rng_next(rng) - 1.0;
     float phi = 2.0 * PI * rng_next(rng);
     float r = sqrt(max(0.0, 1.0 - z * z));
     vec3 d = vec3(r * cos(phi), r * sin(phi), z);
     float pdf_u;
-    bsdf_eval(l, wo, d, pdf_u);
-    outv[3u * i + 2u] = vec4(d, pdf_u);
+    vec3 f_ou = bsdf_eval(l, wo, d, pdf_u);
+    outv[4u * i + 2u] = vec4(d, pdf_u);
+    float pdf_r;
+    vec3 f_uo = d.z > 0.0 ? bsdf_eval(l, d, wo, pdf_r) : vec3(0.0);
+    outv[4u * i + 3u] = vec4(mean3(f_ou), mean3(f_uo), 0.0, 0.0);
 }

@@ -26,6 +26,7 @@ layout(std430, set = 0, binding = BINDING_EMITTERS) readonly buffer Emitters { G
 layout(std430, set = 0, binding = BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
 layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer Texels { uint texels[]; };
 layout(std430, set = 0, binding = BINDING_UVS) readonly buffer Uvs { GpuUv uvs[]; };
+layout(std430, set = 0, binding = BINDING_TANGENTS) readonly buffer Tangents { GpuTangents tangents[]; };
 layout(std430, set = 0, binding = BINDING_LIGHT_PICKS) readonly buffer LightPicks { GpuLightPick light_picks[]; };
 
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
@@ -37,7 +38,8 @@ void main() {
     float s = float(nodes.length()) + triangles[0].v0.x + shading[0].n0.x + materials[0].diffuse.x
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
             + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
-            + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x);
+            + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x)
+            + tangents[0].t0.x;
     accum[0] = vec4(s);
     hits[0].t = s;
     uvec2 w = uvec2(s);

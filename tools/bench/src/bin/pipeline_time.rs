@@ -37,7 +37,7 @@ fn run() -> Result<()> {
     let kind_of = |b: u32| {
         INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).find(|e| e.0 == b).map_or(BindingKind::Storage, |e| e.1)
     };
-    let bindings: Vec<(u32, BindingKind)> = (0..=BINDING_UVS).map(|b| (b, kind_of(b))).collect();
+    let bindings: Vec<(u32, BindingKind)> = (0..=BINDING_UVS).chain([BINDING_TANGENTS]).map(|b| (b, kind_of(b))).collect();
     let ctx = Context::new(&ContextOptions::from_env())?;
     println!("device: {}\n", ctx.info.name);
     // Zeroed buffers: frame.width = 0 and ray_count = 0 make every invocation return at once.

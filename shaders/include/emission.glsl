@@ -1,0 +1,20 @@
+// Emission textures where light sampling needs them (lights.glsl); material_at (surface.glsl)
+// applies the same texture at a hit.
+#ifndef VKRT_EMISSION_GLSL
+#define VKRT_EMISSION_GLSL
+#include "features.glsl"
+#include "scene_bindings.glsl"
+#include "texture.glsl"
+
+// The emitted radiance at barycentrics (u, v) of emissive primitive prim: its material's
+// emission times the emission texture there, as material_at gives it. Light
+// sampling picks emitters by the factor alone (prepare::scene_buffers), so with a texture the
+// pick is less well matched to the power but the estimate stays unbiased.
+vec3 emission_at(uint prim, float u, float v, vec3 factor) {
+    if (!HAS_TEXTURES) return factor;
+    GpuMaterial m = load_material(load_shading(prim).material);
+    if (m.emission_texture == TEXTURE_NONE) return factor;
+    return factor * texture_uv(m.emission_texture, uv_at(prim, u, v), true).rgb;
+}
+
+#endif
