@@ -345,6 +345,23 @@ fn specialised_and_all_features_shaders_agree() {
     let b = special.bounds();
     special.lights.push(Light::Spot { position: b.center(), direction: -Vec3::Y, intensity: Vec3::ONE, radius: 0.1 * b.extent().length() });
     scenes.push(("mirror, glass, glossy, spot light", special));
+    // glTF materials: metallic-roughness (textured, and a smooth metal that Whitted mirrors),
+    // an emission texture and a normal map with MikkTSpace tangents, on the textured shadow scene.
+    let mut gltf = shadow_scene();
+    let t = gltf.textures.len() as u32;
+    gltf.textures.push(vkrt::scene::Texture::from_rgba("normal", 2, 2, &[[170, 100, 230, 255], [90, 140, 240, 255], [128, 128, 255, 255], [200, 60, 200, 255]]).unwrap());
+    gltf.textures.push(vkrt::scene::Texture::from_rgba("mr", 2, 2, &[[0, 200, 255, 255], [0, 40, 0, 255], [0, 120, 128, 255], [0, 255, 60, 255]]).unwrap());
+    let mr = |metallic, roughness, texture| Some(vkrt::scene::MetallicRoughness { metallic, roughness, texture });
+    let n = gltf.materials.len() as u32;
+    gltf.materials.push(Material { name: "gltf rough".into(), diffuse: Vec3::new(0.9, 0.6, 0.3), metallic_roughness: mr(0.7, 0.8, Some(t + 1)), normal_texture: Some(t), normal_scale: 0.7, ..Material::default() });
+    gltf.materials.push(Material { name: "gltf metal".into(), diffuse: Vec3::splat(0.9), metallic_roughness: mr(1.0, 0.05, None), diffuse_texture: Some(0), emission: Vec3::splat(0.5), emission_texture: Some(t + 1), ..Material::default() });
+    for (k, tri) in gltf.triangles.iter_mut().enumerate() {
+        if k % 3 != 0 {
+            tri.material = n + (k % 2) as u32;
+        }
+    }
+    vkrt::scene::tangents::fill_missing_tangents(&mut gltf);
+    scenes.push(("glTF metallic-roughness, normal map, emission texture", gltf));
     for (name, scene) in &scenes {
         assert_specialised_matches_all_features(name, scene);
     }

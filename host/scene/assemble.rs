@@ -44,6 +44,8 @@ pub fn finish_scene(scene: &mut Scene, file: &Path, cameras: Vec<Camera>) -> any
     scene.cameras = cameras;
     // Textures are decoded once per file, here, so that both loaders share the rule.
     super::material_textures::load_material_textures(scene, file, &mut super::texture::TextureCache::default())?;
+    // After the textures: MTL's normal maps are only known once loaded.
+    super::tangents::fill_missing_tangents(scene);
     Ok(())
 }
 

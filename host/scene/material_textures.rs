@@ -7,7 +7,7 @@ use crate::error::InputError;
 use anyhow::{Context as _, Result};
 use std::path::Path;
 
-/// Loads every `diffuse_map` and `alpha_map` into `scene.textures` and sets the materials'
+/// Loads every `diffuse_map`, `alpha_map` and `normal_map` into `scene.textures` and sets the materials'
 /// texture indices. A missing or undecodable diffuse map is an error naming the file and the
 /// material (a silently untextured render is worse than a clear message). A missing `map_d` is
 /// only a warning: White Oak's MTL names `*_A.png` files that were never shipped, and the
@@ -45,9 +45,24 @@ pub fn load_material_textures(scene: &mut Scene, file: &Path, cache: &mut Textur
             }
         }
         let alpha = alpha.or(diffuse).filter(|&a| scene.textures[a as usize].has_cutout());
+        let normal = match scene.materials[i].normal_map.clone() {
+            // Linear, not sRGB: texture.glsl decodes nothing when asked for linear texels.
+            Some(p) => {
+                let n = cache
+                    .get(&mut scene.textures, &p, false)
+                    .with_context(|| format!("{}: normal map of material '{name}'", file.display()))?;
+                scene.stats.read_input(&p);
+                Some(n)
+            }
+            None => None,
+        };
         let m = &mut scene.materials[i];
         m.diffuse_texture = diffuse;
         m.alpha_texture = alpha;
+        // A loader that sets the index itself (glTF) keeps it.
+        if normal.is_some() {
+            m.normal_texture = normal;
+        }
     }
     Ok(())
 }

@@ -15,6 +15,7 @@ pub mod material_textures;
 pub mod obj;
 pub mod obj_geometry;
 pub mod sky;
+pub mod tangents;
 pub mod texture;
 
 pub use camera::Camera;

@@ -258,6 +258,12 @@ fn convert_material(m: &tobj::Material, dir: &Path) -> Material {
         illum: m.illumination_model.map_or(d.illum, u32::from),
         diffuse_map: m.diffuse_texture.as_deref().map(|t| texture_path(dir, t)),
         alpha_map: m.dissolve_texture.as_deref().map(|t| texture_path(dir, t)),
+        // `norm` (the PBR extension of MTL) is a tangent-space normal map. `bump` and
+        // `map_Bump`, which tobj reads as its `normal_texture`, are not used: the MTL
+        // specification makes them scalar bump (height) maps, and most files that have them
+        // (Crytek Sponza, the McGuire archive) hold height maps, which read as normals would
+        // tilt every surface. README, "Materials".
+        normal_map: m.unknown_param.get("norm").map(|t| texture_path(dir, t)),
         ..d
     }
 }
