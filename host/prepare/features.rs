@@ -21,8 +21,9 @@ pub const POINT: Feature = Feature { name: "point lights", spec_id: SPEC_HAS_POI
 pub const DIRECTIONAL: Feature = Feature { name: "directional lights", spec_id: SPEC_HAS_DIRECTIONAL };
 pub const SPOT: Feature = Feature { name: "spot lights", spec_id: SPEC_HAS_SPOT };
 pub const SKY: Feature = Feature { name: "sky", spec_id: SPEC_HAS_SKY };
+pub const CONE: Feature = Feature { name: "cone lights", spec_id: SPEC_HAS_CONE };
 
-pub const ALL: [Feature; 10] = [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY];
+pub const ALL: [Feature; 11] = [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, CONE];
 
 /// Which features a scene uses, each with the reason (for `--verbose`).
 #[derive(Debug, Clone, PartialEq)]
@@ -75,6 +76,7 @@ impl Features {
             (DIRECTIONAL, count_lights(&|l| matches!(l, Light::Directional { .. }), "directional lights")),
             (SPOT, count_lights(&|l| matches!(l, Light::Spot { .. }), "spot lights")),
             (SKY, sky_use(&scene.sky)),
+            (CONE, count_lights(&|l| matches!(l, Light::Cone { .. }), "cone (glTF spot) lights")),
         ];
         Self { entries: entries.into_iter().map(|(f, (on, w))| (f, on, w)).collect() }
     }

@@ -16,5 +16,6 @@ layout(constant_id = SPEC_HAS_POINT) const bool HAS_POINT = true;
 layout(constant_id = SPEC_HAS_DIRECTIONAL) const bool HAS_DIRECTIONAL = true;
 layout(constant_id = SPEC_HAS_SPOT) const bool HAS_SPOT = true;
 layout(constant_id = SPEC_HAS_SKY) const bool HAS_SKY = true;
+layout(constant_id = SPEC_HAS_CONE) const bool HAS_CONE = true;
 
 #endif
