@@ -8,6 +8,7 @@
 
 #include "scene_bindings.glsl"
 #include "features.glsl"
+#include "light_falloff.glsl"
 #include "texture.glsl"
 #include "environment.glsl"
 #include "traverse.glsl"
@@ -80,7 +81,7 @@ vec3 blinn_phong(GpuMaterial m, Surface s, vec3 view, vec3 l, vec3 e) {
 vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
     vec3 result = frame.ambient * m.diffuse;
     vec3 origin = offset_ray(s.p, s.ng, frame.scene_scale);
-    uint light_count = (HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT) ? frame.light_count : 0u;
+    uint light_count = (HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT || HAS_CONE) ? frame.light_count : 0u;
     uint emitter_count = HAS_EMITTERS ? frame.emitter_count : 0u;
     uint shadow_count = light_count + emitter_count * WHITTED_EMITTER_SAMPLES;
     for (uint i = 0u; i < shadow_count; i++) {
@@ -91,7 +92,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
         if (i < light_count) {
             GpuLight light = load_light(i);
             if ((!HAS_POINT && light.kind == LIGHT_POINT) || (!HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL)
-                || (!HAS_SPOT && light.kind == LIGHT_SPOT)) continue;
+                || (!HAS_SPOT && light.kind == LIGHT_SPOT) || (!HAS_CONE && light.kind == LIGHT_CONE)) continue;
             if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
                 l = light.direction;
                 e = light.intensity;
@@ -105,6 +106,10 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
                 if (HAS_SPOT && light.kind == LIGHT_SPOT) {
                     // intensity * 4 pi r^2 * cos / d^2, over pi (scene::Light).
                     e *= 4.0 * light.radius * light.radius * max(dot(light.direction, -l), 0.0);
+                }
+                if (HAS_CONE && light.kind == LIGHT_CONE) {
+                    // As a point light, times the cone falloff (scene::Light; `radius` = cos_inner).
+                    e *= cone_falloff(dot(light.direction, -l), light.radius, light.cos_outer);
                 }
             }
             if (dot(s.ng, l) <= 0.0 || all(equal(e, vec3(0.0)))) continue;

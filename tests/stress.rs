@@ -196,6 +196,10 @@ fn transformed(scene: &Scene, s: f32, o: Vec3) -> Scene {
                 // intensity * r^2 / d^2 is scale-free already.
                 let _ = intensity;
             }
+            Light::Cone { position, intensity, .. } => {
+                *position = *position * s + o;
+                *intensity *= s * s;
+            }
             Light::Directional { .. } => {}
         }
     }

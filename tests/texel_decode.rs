@@ -81,7 +81,7 @@ fn check_probe<'a>(ctx: &'a Context, probe: &[u8], nodes: impl FnOnce(&mut commo
             m._pad1 = 0;
             m._pad2 = 0;
         })),
-        case(ctx, "lights", BINDING_LIGHTS, o + 4, rgba, values(&mut rng, 13, |l: &mut GpuLight| l._pad0 = 0)),
+        case(ctx, "lights", BINDING_LIGHTS, o + 4, rgba, values(&mut rng, 13, |_: &mut GpuLight| {})),
         case(ctx, "emitters", BINDING_EMITTERS, o + 5, rgba, values(&mut rng, 31, |e: &mut GpuEmitter| {
             e._pad0 = 0;
             e._pad1 = 0;

@@ -344,7 +344,14 @@ fn specialised_and_all_features_shaders_agree() {
     }
     let b = special.bounds();
     special.lights.push(Light::Spot { position: b.center(), direction: -Vec3::Y, intensity: Vec3::ONE, radius: 0.1 * b.extent().length() });
-    scenes.push(("mirror, glass, glossy, spot light", special));
+    special.lights.push(Light::Cone {
+        position: b.center(),
+        direction: -Vec3::Y,
+        intensity: Vec3::ONE,
+        cos_inner: 0.9,
+        cos_outer: 0.7,
+    });
+    scenes.push(("mirror, glass, glossy, spot and cone lights", special));
     // glTF materials: metallic-roughness (textured, and a smooth metal that Whitted mirrors),
     // an emission texture and a normal map with MikkTSpace tangents, on the textured shadow scene.
     let mut gltf = shadow_scene();

@@ -142,11 +142,16 @@ shared_constants! {
     // 10-12 are the workgroup sizes above.
     SPEC_HAS_METALLIC_ROUGHNESS = 13;
     SPEC_HAS_NORMAL_MAP = 14;
+    /// glTF spot lights (`LIGHT_CONE`); after the workgroup ids and the ids other features took.
+    SPEC_HAS_CONE = 15;
 
     /// Light kinds (`GpuLight::kind`).
     LIGHT_POINT = 0;
     LIGHT_DIRECTIONAL = 1;
     LIGHT_SPOT = 2;
+    /// A glTF spot light (`scene::Light::Cone`): `GpuLight::radius` holds the cosine of its
+    /// inner cone angle, `cos_outer` that of the outer one.
+    LIGHT_CONE = 3;
 
     /// Fixed samples per emissive triangle in the Whitted integrator (a stratified pattern).
     WHITTED_EMITTER_SAMPLES = 4;

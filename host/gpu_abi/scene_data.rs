@@ -76,16 +76,19 @@ gpu_structs! {
         pub t2: [f32; 4],
     }
 
-    /// A point, directional or spot light. See `crate::scene::Light` for the units.
+    /// A point, directional, spot or cone light. See `crate::scene::Light` for the units.
     pub struct GpuLight {
         pub position: [f32; 3],
         /// `LIGHT_*`.
         pub kind: u32,
-        /// Normalised; for a directional light, the direction toward the light.
+        /// Normalised; for a directional light, the direction toward the light; for spot and
+        /// cone lights, the way they shine.
         pub direction: [f32; 3],
+        /// Spot: the sphere's radius. Cone: the cosine of the inner cone angle.
         pub radius: f32,
         pub intensity: [f32; 3],
-        pub _pad0: u32,
+        /// Cone: the cosine of the outer cone angle; 0 for the other kinds.
+        pub cos_outer: f32,
     }
 
     /// An emissive triangle, for light sampling.

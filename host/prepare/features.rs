@@ -26,8 +26,11 @@ pub const ENVMAP: Feature = Feature { name: "environment map", spec_id: SPEC_HAS
 pub const METALLIC_ROUGHNESS: Feature = Feature { name: "metallic-roughness", spec_id: SPEC_HAS_METALLIC_ROUGHNESS };
 pub const NORMAL_MAP: Feature = Feature { name: "normal maps", spec_id: SPEC_HAS_NORMAL_MAP };
 
-pub const ALL: [Feature; 13] =
-    [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP, METALLIC_ROUGHNESS, NORMAL_MAP];
+pub const CONE: Feature = Feature { name: "cone lights", spec_id: SPEC_HAS_CONE };
+
+pub const ALL: [Feature; 14] = [
+    TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP, METALLIC_ROUGHNESS, NORMAL_MAP, CONE,
+];
 
 /// Which features a scene uses, each with the reason (for `--verbose`).
 #[derive(Debug, Clone, PartialEq)]
@@ -83,6 +86,7 @@ impl Features {
             (ENVMAP, envmap_use(&scene.sky)),
             (METALLIC_ROUGHNESS, why(named(&|m| m.metallic_roughness.is_some()), "metallic-roughness materials")),
             (NORMAL_MAP, why(named(&|m| m.normal_texture.is_some()), "materials with a normal map")),
+            (CONE, count_lights(&|l| matches!(l, Light::Cone { .. }), "cone (glTF spot) lights")),
         ];
         Self { entries: entries.into_iter().map(|(f, (on, w))| (f, on, w)).collect() }
     }

@@ -7,6 +7,10 @@
 //! - emissive triangle: pi * area * mean(Ke) (a Lambertian emitter of radiance Ke, front face);
 //! - point light: 4 pi * mean(I) (radiant intensity I in every direction);
 //! - spot light: intensity 4 pi r^2 I max(0, cos) integrated over the sphere = 4 pi^2 r^2 mean(I);
+//! - cone light: the falloff f of `scene::Light::Cone` integrated over the sphere,
+//!   2 pi mean(I) integral_{cos_outer}^{1} f(c) dc = 2 pi mean(I) ((1 - cos_inner) + (cos_inner -
+//!   cos_outer) / 3) (f is 1 above cos_inner and a squared linear ramp, integrating to a third of
+//!   its width, below);
 //! - directional light: mean(E) * pi R^2, its irradiance E over the disk of the scene's
 //!   bounding sphere (radius R), the most it can deliver to the scene.
 //!
@@ -36,6 +40,10 @@ pub fn light_weight(light: &GpuLight, scene_radius: f32) -> f32 {
     match light.kind {
         LIGHT_POINT => 4.0 * PI * i,
         LIGHT_SPOT => 4.0 * PI * PI * light.radius * light.radius * i,
+        LIGHT_CONE => {
+            let (cos_inner, cos_outer) = (light.radius, light.cos_outer);
+            2.0 * PI * i * ((1.0 - cos_inner).max(0.0) + (cos_inner - cos_outer).max(0.0) / 3.0)
+        }
         _ => i * PI * scene_radius * scene_radius,
     }
 }

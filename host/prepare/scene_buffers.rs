@@ -67,13 +67,16 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
 }
 
 pub fn gpu_light(l: &Light) -> GpuLight {
-    let (kind, position, direction, intensity, radius) = match *l {
-        Light::Point { position, intensity } => (LIGHT_POINT, position, glam::Vec3::ZERO, intensity, 0.0),
+    let (kind, position, direction, intensity, radius, cos_outer) = match *l {
+        Light::Point { position, intensity } => (LIGHT_POINT, position, glam::Vec3::ZERO, intensity, 0.0, 0.0),
         Light::Directional { direction, intensity } => {
-            (LIGHT_DIRECTIONAL, glam::Vec3::ZERO, direction.normalize_or_zero(), intensity, 0.0)
+            (LIGHT_DIRECTIONAL, glam::Vec3::ZERO, direction.normalize_or_zero(), intensity, 0.0, 0.0)
         }
         Light::Spot { position, direction, intensity, radius } => {
-            (LIGHT_SPOT, position, direction.normalize_or_zero(), intensity, radius)
+            (LIGHT_SPOT, position, direction.normalize_or_zero(), intensity, radius, 0.0)
+        }
+        Light::Cone { position, direction, intensity, cos_inner, cos_outer } => {
+            (LIGHT_CONE, position, direction.normalize_or_zero(), intensity, cos_inner, cos_outer)
         }
     };
     GpuLight {
@@ -82,7 +85,7 @@ pub fn gpu_light(l: &Light) -> GpuLight {
         direction: direction.to_array(),
         radius,
         intensity: intensity.to_array(),
-        _pad0: 0,
+        cos_outer,
     }
 }
 

@@ -57,7 +57,7 @@ pub fn secondary(scene: &Scene, primary: &[GpuRay], hits: &[GpuHit], seed: u64) 
         let p = Vec3::from(r.origin) + h.t * d + eps * n;
         match light {
             Some(Light::Directional { direction, .. }) => shadow.push(ray(p, direction.normalize_or_zero(), f32::INFINITY)),
-            Some(Light::Point { position, .. }) | Some(Light::Spot { position, .. }) => {
+            Some(Light::Point { position, .. }) | Some(Light::Spot { position, .. }) | Some(Light::Cone { position, .. }) => {
                 shadow.push(ray(p, position - p, 1.0));
             }
             None => shadow.push(ray(p, fallback - p, 1.0)),

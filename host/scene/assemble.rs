@@ -11,20 +11,28 @@ use crate::error::InputError;
 /// Adds triangles to the scene in order, dropping zero-area ones (counted in `stats`) and
 /// shading normals that cannot be normalised (zero, NaN, inf) for that triangle.
 pub fn push_triangles(scene: &mut Scene, triangles: impl IntoIterator<Item = Triangle>) {
-    for mut t in triangles {
-        let len = t.cross().length();
-        // NaN fails both tests: a triangle with a non-finite vertex is unusable too.
-        let has_area = len > 0.0 && len.is_finite();
-        if !has_area {
-            scene.stats.dropped_degenerate += 1;
-            continue;
-        }
-        if let Some(n) = t.n {
-            let n = n.map(|v| v.normalize_or_zero());
-            t.n = if n.iter().all(|v| *v != Vec3::ZERO && v.is_finite()) { Some(n) } else { None };
-        }
-        scene.triangles.push(t);
+    for t in triangles {
+        push_triangle(scene, t);
     }
+}
+
+/// Adds one triangle as [`push_triangles`] does; false if it was dropped as degenerate (a
+/// loader that keeps a per-triangle array beside `Scene::triangles`, as glTF's tangents, keeps
+/// it in step with this).
+pub fn push_triangle(scene: &mut Scene, mut t: Triangle) -> bool {
+    let len = t.cross().length();
+    // NaN fails both tests: a triangle with a non-finite vertex is unusable too.
+    let has_area = len > 0.0 && len.is_finite();
+    if !has_area {
+        scene.stats.dropped_degenerate += 1;
+        return false;
+    }
+    if let Some(n) = t.n {
+        let n = n.map(|v| v.normalize_or_zero());
+        t.n = if n.iter().all(|v| *v != Vec3::ZERO && v.is_finite()) { Some(n) } else { None };
+    }
+    scene.triangles.push(t);
+    true
 }
 
 /// What both loaders do last: refuse an empty scene, choose the camera (the file's first, or a

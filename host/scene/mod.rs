@@ -1,12 +1,13 @@
 //! The renderer's view of a scene: triangles, materials, lights, a camera.
 //!
-//! Loaders ([`obj`], [`lab_yaml`]) produce a [`Scene`]; everything after them (the prepare
+//! Loaders ([`obj`], [`lab_yaml`], [`gltf`]) produce a [`Scene`]; everything after them (the prepare
 //! stage, `vkrt trace`'s ray sets) reads only this. Coordinates are world space, right-handed,
 //! any unit. Depends on `geom` only: no BVH, no GPU format.
 
 pub mod assemble;
 pub mod camera;
 pub mod envmap;
+pub mod gltf;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;
@@ -65,7 +66,7 @@ pub struct Scene {
     /// `vkrt trace` output): loaders keep the file's order, faces fan-triangulated in place.
     pub triangles: Vec<Triangle>,
     pub materials: Vec<Material>,
-    /// Lights that are not triangles (point, directional, spot). Emissive triangles are found
+    /// Lights that are not triangles (point, directional, spot, cone). Emissive triangles are found
     /// from their materials; lab `Area` lights are added as emissive triangles.
     pub lights: Vec<Light>,
     /// The camera renders use: the file's first, or for a file without one a default

@@ -47,6 +47,21 @@ impl Texture {
         Self::from_rgba(path, width, height, &rgba)
     }
 
+    /// Decodes an image held in memory (a glTF image in a buffer view or a `data:` URI);
+    /// `name` says where it came from, for messages and `Texture::path`.
+    pub fn from_bytes(name: impl Into<PathBuf>, bytes: &[u8]) -> Result<Self> {
+        let name = name.into();
+        let img = image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .with_context(|| format!("reading image {}", name.display()))?
+            .decode()
+            .with_context(|| format!("decoding image {}", name.display()))?
+            .into_rgba8();
+        let (width, height) = img.dimensions();
+        let rgba: Vec<[u8; 4]> = img.pixels().map(|p| p.0).collect();
+        Self::from_rgba(name, width, height, &rgba)
+    }
+
     /// Loads an alpha map (MTL `map_d`): its alpha channel if it has see-through texels, else
     /// its red channel (grey-scale masks have no alpha channel).
     pub fn load_alpha_map(path: &Path) -> Result<Self> {

@@ -19,5 +19,6 @@ layout(constant_id = SPEC_HAS_SKY) const bool HAS_SKY = true;
 layout(constant_id = SPEC_HAS_ENVMAP) const bool HAS_ENVMAP = true;
 layout(constant_id = SPEC_HAS_METALLIC_ROUGHNESS) const bool HAS_METALLIC_ROUGHNESS = true;
 layout(constant_id = SPEC_HAS_NORMAL_MAP) const bool HAS_NORMAL_MAP = true;
+layout(constant_id = SPEC_HAS_CONE) const bool HAS_CONE = true;
 
 #endif

@@ -105,7 +105,7 @@ struct GpuLight {
     vec3 direction;
     float radius;
     vec3 intensity;
-    uint _pad0;
+    float cos_outer;
 };
 
 struct GpuEmitter {

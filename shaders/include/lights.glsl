@@ -3,6 +3,7 @@
 #ifndef VKRT_LIGHTS_GLSL
 #define VKRT_LIGHTS_GLSL
 #include "features.glsl"
+#include "light_falloff.glsl"
 #include "math.glsl"
 #include "path_bindings.glsl"
 #include "sampling.glsl"
@@ -91,7 +92,7 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
         ls.span_tmax = 1.0 / 0.0;
         return any(greaterThan(ls.li_over_pdf, vec3(0.0)));
     }
-    if (!(HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT)) return false;
+    if (!(HAS_POINT || HAS_DIRECTIONAL || HAS_SPOT || HAS_CONE)) return false;
     GpuLight light = load_light(j - frame.emitter_count);
     if (HAS_DIRECTIONAL && light.kind == LIGHT_DIRECTIONAL) {
         // Irradiance `intensity` on a surface facing the light.
@@ -105,9 +106,11 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
     float d2 = dot(to_light, to_light);
     float dist = sqrt(d2);
     ls.wi = to_light / dist;
-    // Radiant intensity toward p: `intensity` (point) or intensity 4 pi r^2 max(0, cos) (spot).
+    // Radiant intensity toward p: `intensity` (point), intensity 4 pi r^2 max(0, cos) (spot) or
+    // intensity times the cone falloff (cone; `radius` holds cos_inner).
     vec3 i = light.intensity;
     if (HAS_SPOT && light.kind == LIGHT_SPOT) i *= 4.0 * PI * light.radius * light.radius * max(dot(light.direction, -ls.wi), 0.0);
+    if (HAS_CONE && light.kind == LIGHT_CONE) i *= cone_falloff(dot(light.direction, -ls.wi), light.radius, light.cos_outer);
     ls.li_over_pdf = i / (d2 * pmf);
     ls.span = ls.wi;
     ls.span_tmax = dist;

@@ -59,7 +59,7 @@ GpuLight load_light(uint i) {
     uvec4 a = texelFetch(light_texels, int(3u * i));
     uvec4 b = texelFetch(light_texels, int(3u * i + 1u));
     uvec4 c = texelFetch(light_texels, int(3u * i + 2u));
-    return GpuLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w), uintBitsToFloat(c.xyz), 0u);
+    return GpuLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w), uintBitsToFloat(c.xyz), uintBitsToFloat(c.w));
 }
 
 // 64 B: v0, prim | v1, area | v2, pad | radiance, pad.

@@ -1,0 +1,109 @@
+//! glTF 2.0 scenes: `.gltf` (JSON, with external or embedded `data:` buffers and images) and
+//! `.glb` (the binary container), after the Khronos glTF 2.0 specification.
+//!
+//! The `gltf` crate parses the JSON and the GLB container, validates indices and reads accessors
+//! (sparse ones included); buffers and images are resolved here ([`buffers`], [`images`]), so
+//! that every file read lands in `LoadStats::inputs` (checkpoints hash them) and every error is
+//! an [`InputError`] naming the file and the JSON location (`meshes[2].primitives[0]`).
+//!
+//! What is read: the default scene (`scene`, else `scenes[0]`, else every root node), its node
+//! hierarchy ([`nodes`]), every mesh primitive placed by it ([`mesh`]; a mesh used by several
+//! nodes is expanded once per node: a two-level BVH would instead keep one bottom-level tree per
+//! mesh and a top level of instances, transforming rays into each instance's space), materials
+//! ([`materials`]), `KHR_lights_punctual` lights ([`lights`]) and perspective cameras
+//! ([`cameras`]). Skins, morph targets and animations are not read: the static pose is used.
+//! Which extensions are supported: [`extensions`].
+//!
+//! Triangle order (= primitive ids): nodes in depth-first order from the scene's roots, each
+//! node's primitives in file order, each primitive's triangles in index order.
+
+mod buffers;
+mod cameras;
+mod extensions;
+mod images;
+mod lights;
+mod materials;
+mod mesh;
+mod nodes;
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use super::assemble::{default_light, finish_scene};
+use super::Scene;
+use crate::error::InputError;
+
+pub use extensions::SUPPORTED_EXTENSIONS;
+
+/// An error at a JSON location of a glTF file.
+fn at(file: &Path, location: impl Into<String>, message: impl Into<String>) -> anyhow::Error {
+    InputError::new(file, Some(location.into()), message).into()
+}
+
+/// Loads a `.gltf` or `.glb` file as a whole scene: its cameras (or the default camera), its
+/// lights, and for a file with neither lights nor emissive materials the same default light
+/// as a bare OBJ.
+pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
+    let bytes =
+        std::fs::read(path).map_err(|e| InputError::new(path, None, format!("cannot read the file: {e}")))?;
+    let mut scene = Scene::default();
+    scene.stats.read_input(path);
+    // Parsed without validation first, so that an unsupported required extension is reported
+    // as such (the crate's validator would only say "unsupported").
+    let ::gltf::Gltf { document, blob } =
+        ::gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
+    drop(bytes);
+    extensions::check(&document, path, &mut scene.stats)?;
+    let document = ::gltf::Document::from_json(document.into_json()).map_err(|e| parse_error(path, e))?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let buffers = buffers::load(&document, blob, path, dir, &mut scene.stats)?;
+
+    let mut images = images::Images::new(&document, &buffers, path, dir);
+    let table = materials::convert(&document, path, &mut images, &mut scene)?;
+    let placed = nodes::walk(&document, path)?;
+    let mut cameras = Vec::new();
+    for p in &placed {
+        if let Some(mesh) = p.node.mesh() {
+            mesh::add_mesh(&mut scene, &mesh, p.world, &buffers, &table, path)?;
+        }
+        if let Some(camera) = p.node.camera() {
+            cameras.extend(cameras::camera(&camera, p.node.index(), p.world, path, &mut scene.stats));
+        }
+        if let Some(light) = p.node.light() {
+            scene.lights.push(lights::light(&light, p.world));
+        }
+    }
+    if !scene.materials.iter().any(|m| m.normal_texture.is_some()) {
+        // Scene::tangents is empty unless a normal map needs it.
+        scene.tangents.clear();
+    }
+    finish_scene(&mut scene, path, cameras)?;
+    if scene.lights.is_empty() && scene.emissive_triangles().is_empty() {
+        // As a bare OBJ (obj::load_obj): light from over the camera's shoulder and a little
+        // ambient, so that the render is never black.
+        scene.lights.push(default_light(&scene));
+        scene.ambient = Vec3::splat(0.05);
+    }
+    Ok(scene)
+}
+
+/// The crate's parse or validation error, located: JSON syntax errors by line and column,
+/// validation errors by their JSON path (the first of them, with the count of the others).
+fn parse_error(file: &Path, e: ::gltf::Error) -> anyhow::Error {
+    match e {
+        ::gltf::Error::Validation(errors) => {
+            let Some((path, first)) = errors.first() else { return at(file, "(document)", "invalid glTF") };
+            let more = match errors.len() {
+                1 => String::new(),
+                n => format!(" (and {} more validation error(s))", n - 1),
+            };
+            at(file, path.to_string(), format!("invalid glTF: {first}{more}"))
+        }
+        ::gltf::Error::Deserialize(e) => {
+            at(file, format!("line {}, column {}", e.line(), e.column()), format!("not valid glTF JSON: {e}"))
+        }
+        ::gltf::Error::Binary(e) => InputError::new(file, None, format!("not a valid GLB container: {e}")).into(),
+        e => InputError::new(file, None, format!("cannot read glTF: {e}")).into(),
+    }
+}
