@@ -184,3 +184,43 @@ fn the_default_cache_skips_small_scenes_and_no_cache_keeps_nothing() {
     let both = vkrt(&["render", &case.scene, "--no-cache", "--cache", &xdg, "-o", &out], &[]);
     assert!(!both.status.success() && String::from_utf8_lossy(&both.stderr).contains("--no-cache"));
 }
+
+#[test]
+fn a_normal_mapped_obj_renders_the_same_from_the_cache() {
+    // An OBJ quad whose MTL names a tangent-space normal map with `norm`: the map is loaded
+    // (the image differs from the same quad without it), MikkTSpace makes its tangents, and the
+    // cache stores them (format 2): a cached render is the uncached one, byte for byte.
+    let dir = common::scratch_dir("scene-cache/normal-map");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut img = image::RgbaImage::new(4, 4);
+    for (x, _, p) in img.enumerate_pixels_mut() {
+        *p = image::Rgba([if x < 2 { 200 } else { 60 }, 128, 220, 255]);
+    }
+    img.save(dir.join("normal.png")).unwrap();
+    let obj = "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nusemtl bumpy\nf 1/1/1 2/2/1 3/3/1 4/4/1\n";
+    std::fs::write(dir.join("quad.obj"), obj).unwrap();
+    std::fs::write(dir.join("plain.obj"), obj.replace("quad.mtl", "plain.mtl")).unwrap();
+    std::fs::write(dir.join("quad.mtl"), "newmtl bumpy\nKd 0.8 0.8 0.8\nnorm normal.png\n").unwrap();
+    std::fs::write(dir.join("plain.mtl"), "newmtl bumpy\nKd 0.8 0.8 0.8\n").unwrap();
+    let cache = dir.join("cache").display().to_string();
+    let render = |scene: &str, name: &str, cached: bool| {
+        let out = dir.join(name).display().to_string();
+        let scene = dir.join(scene).display().to_string();
+        let mut args = vec!["render", scene.as_str(), "--width", "24", "--height", "24", "--verbose", "-o", out.as_str()];
+        if cached {
+            args.extend(["--cache", cache.as_str()]);
+        } else {
+            args.push("--no-cache");
+        }
+        let err = ok(vkrt(&args, &[]), name);
+        (std::fs::read(&out).unwrap(), err)
+    };
+    let (fresh, _) = render("quad.obj", "fresh.exr", false);
+    let (plain, _) = render("plain.obj", "plain.exr", false);
+    assert!(fresh != plain, "the normal map changes nothing: `norm` was not loaded");
+    let (first, _) = render("quad.obj", "first.exr", true);
+    let (second, err) = render("quad.obj", "second.exr", true);
+    assert!(err.contains(HIT), "the second run must map the entry:\n{err}");
+    assert!(fresh == first && first == second, "a cached normal-mapped render differs from an uncached one");
+}
