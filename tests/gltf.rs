@@ -473,6 +473,25 @@ fn unsupported_mode_required_extension_and_missing_bin_are_errors_naming_file_an
     assert_eq!(warnings.len(), 1, "{:?}", scene.stats.warnings);
     assert!(warnings[0].contains("extensionsUsed[0]"));
 
+    // An image `image` cannot decode, in an external file.
+    let mut doc = Doc::new();
+    let image = doc.root.push(json::Image {
+        buffer_view: None,
+        mime_type: None,
+        name: Some("broken".into()),
+        uri: Some("broken.png".into()),
+        extensions: None,
+        extras: Default::default(),
+    });
+    let tex = doc.root.push(json::Texture { name: None, sampler: None, source: image, extensions: None, extras: Default::default() });
+    let m = textured_material(&mut doc, tex);
+    let mesh = quad_doc(&mut doc, Some(m), false);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    std::fs::write(dir.join("broken.png"), b"not an image at all").unwrap();
+    doc.write_gltf(&dir.join("broken_image.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("broken_image.gltf"), "images[0]", "broken.png");
+
     // A .bin that is not there.
     let mut doc = Doc::new();
     let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
