@@ -75,7 +75,7 @@ fn count_lights(scene: &Scene) -> [usize; 3] {
         match l {
             Light::Point { .. } => n[0] += 1,
             Light::Directional { .. } => n[1] += 1,
-            Light::Spot { .. } => n[2] += 1,
+            Light::Spot { .. } | Light::Cone { .. } => n[2] += 1,
         }
     }
     n

@@ -33,7 +33,7 @@ fn top_view(triangles: Vec<Triangle>, materials: Vec<Material>, textures: Vec<Te
         materials,
         textures,
         lights: vec![light],
-        camera: Camera { eye: Vec3::new(0.0, 0.0, 10.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0 },
+        camera: Camera { eye: Vec3::new(0.0, 0.0, 10.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0, ..Camera::default() },
         ..Scene::default()
     }
 }
@@ -176,7 +176,7 @@ fn mask_cuts_out_at_the_materials_own_cutoff_in_shadows_too() {
     assert_eq!(mean(&common::render_path(&shut, &common::path_settings(8, 8, 4)).image()), 0.0);
     // The floor under an opaque veil, seen from below the veil: a camera between them.
     let mut under = shut.clone();
-    under.camera = Camera { eye: Vec3::new(0.0, 0.0, 0.5), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0 };
+    under.camera = Camera { eye: Vec3::new(0.0, 0.0, 0.5), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0, ..Camera::default() };
     assert_eq!(mean(&common::render_path(&under, &common::path_settings(8, 8, 4)).image()), 0.0, "the opaque veil casts no shadow");
     let mut under_open = open.clone();
     under_open.camera = under.camera;

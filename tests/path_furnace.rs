@@ -255,7 +255,7 @@ fn a_textured_emitter_converges_to_the_same_image_with_and_without_light_samplin
         triangles,
         materials: vec![floor, light],
         textures: vec![texture],
-        camera: Camera { eye: Vec3::new(0.0, 6.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 60.0 },
+        camera: Camera { eye: Vec3::new(0.0, 6.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 60.0, ..Camera::default() },
         ..Scene::default()
     };
     let nee = common::render_path(&scene, &common::path_settings(48, 48, 256));

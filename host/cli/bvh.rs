@@ -29,7 +29,7 @@ pub enum Format {
 
 #[derive(Debug, Args)]
 pub struct BvhArgs {
-    /// Scene files (.obj or lab .yaml).
+    /// Scene files (.obj, lab .yaml, glTF .gltf/.glb).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Output format.

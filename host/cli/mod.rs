@@ -31,7 +31,7 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a scene (.obj or lab .yaml) to an image (.png, .exr or .pfm).
+    /// Render a scene (.obj, lab .yaml, glTF .gltf/.glb) to an image (.png, .exr or .pfm).
     Render(render::RenderArgs),
     /// List the Vulkan devices and the limits that matter to vkrt.
     Info(DeviceArgs),

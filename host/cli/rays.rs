@@ -17,7 +17,7 @@ pub enum RayKind {
 
 #[derive(Debug, Args)]
 pub struct RaysArgs {
-    /// Scene file (.obj or lab .yaml).
+    /// Scene file (.obj, lab .yaml, glTF .gltf/.glb).
     pub scene: PathBuf,
     /// Which rays.
     #[arg(long, value_enum)]

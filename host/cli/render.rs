@@ -43,7 +43,7 @@ pub const WHITTED_DEFAULT_DEPTH: u32 = 7;
 
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Scene file: Wavefront .obj (with its .mtl) or a course-lab .yaml. Not needed with
+    /// Scene file: Wavefront .obj (with its .mtl), a course-lab .yaml or glTF 2.0 (.gltf, .glb). Not needed with
     /// --resume, whose checkpoint names it.
     pub scene: Option<PathBuf>,
     /// The image to write, exactly this file; the extension picks the format: .png (8-bit

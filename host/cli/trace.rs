@@ -18,7 +18,7 @@ pub const FILE_BATCH: usize = 1 << 20;
 
 #[derive(Debug, Args)]
 pub struct TraceArgs {
-    /// Scene file (.obj or lab .yaml). Hit `prim` is the index in its triangle order (file
+    /// Scene file (.obj, lab .yaml, glTF .gltf/.glb). Hit `prim` is the index in its triangle order (file
     /// order, after degenerate triangles are dropped).
     pub scene: PathBuf,
     /// Rays: float32 .npy of shape (N, 8): origin xyz, tmin, direction xyz, tmax.

@@ -150,6 +150,30 @@ mod tests {
     }
 
     #[test]
+    fn cone_power_is_its_falloff_integrated_over_the_sphere() {
+        let (cos_inner, cos_outer) = (0.9f32, 0.6f32);
+        let light = GpuLight {
+            position: [0.0; 3],
+            kind: LIGHT_CONE,
+            direction: [0.0, 0.0, -1.0],
+            radius: cos_inner,
+            intensity: [2.0; 3],
+            cos_outer,
+        };
+        // Midpoint rule over cos in [-1, 1]: power = 2 pi I integral f(c) dc.
+        let n = 200_000;
+        let integral: f64 = (0..n)
+            .map(|k| {
+                let c = -1.0 + (k as f64 + 0.5) * 2.0 / n as f64;
+                crate::scene::Light::cone_falloff(c as f32, cos_inner, cos_outer) as f64 * 2.0 / n as f64
+            })
+            .sum();
+        let want = 2.0 * std::f64::consts::PI * 2.0 * integral;
+        let got = light_weight(&light, 1.0) as f64;
+        assert!((got / want - 1.0).abs() < 1e-4, "cone power {got}, integral {want}");
+    }
+
+    #[test]
     fn empty_and_zero_tables_pick_nothing() {
         assert!(alias_table(&[], 0.0).is_empty());
         assert!(alias_table(&[0.0, 0.0], 0.0).iter().all(|p| p.pmf == 0.0));

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod closed_meshes;
+pub mod gltf_writer;
 pub mod procedural;
 
 use vkrt::gpu::{Context, ContextOptions, Validation};

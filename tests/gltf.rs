@@ -1,0 +1,503 @@
+//! The glTF 2.0 loader (host/scene/gltf/) on files the tests write themselves
+//! (tests/common/gltf_writer.rs): transforms, instancing, mirroring, the three buffer storages,
+//! textures on the right face, cameras by index, punctual lights in both integrators, and errors
+//! that name file and location.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::gltf_writer::{mesh_node, png, Doc, Storage};
+use glam::{Mat4, Quat, Vec3, Vec4};
+use gltf_json as json;
+use json::extensions::scene::khr_lights_punctual as khr;
+use json::validation::Checked::Valid;
+use vkrt::integrator::{whitted, RenderSettings};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::scene::{load_scene, Light, Scene};
+
+/// One triangle in the z = 0 plane, counter-clockwise seen from +z, normals +z.
+const TRI: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+const UP_Z: [[f32; 3]; 3] = [[0.0, 0.0, 1.0]; 3];
+
+fn scratch(test: &str) -> PathBuf {
+    common::scratch_dir(&format!("gltf/{test}"))
+}
+
+fn assert_near(what: &str, got: Vec3, want: Vec3) {
+    assert!(got.abs_diff_eq(want, 1e-5), "{what}: got {got}, want {want}");
+}
+
+fn vkrt(args: &[&str]) -> Output {
+    Command::new(common::vkrt_bin()).args(args).env_remove("VKRT_CACHE").output().expect("run vkrt")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Renders with Whitted, one sample at each pixel centre.
+fn whitted_image(scene: &Scene, width: u32, height: u32) -> vkrt::integrator::Image {
+    let ctx = common::gpu_context();
+    let prepared = PreparedScene::new(scene, &PrepareOptions::default()).unwrap();
+    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+    let settings = RenderSettings { width, height, spp: 1, ..RenderSettings::default() };
+    let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
+    assert_eq!(stats.nonfinite_samples, 0);
+    common::assert_no_validation_messages(&ctx);
+    image
+}
+
+#[test]
+fn child_trs_under_parent_matrix_gives_exact_world_positions() {
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    // Child: translate (0, 1, 0) after a quarter turn about +z.
+    let rotation = Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
+    let child = doc.node(json::Node {
+        translation: Some([0.0, 1.0, 0.0]),
+        rotation: Some(json::scene::UnitQuaternion(rotation.to_array())),
+        ..mesh_node(mesh)
+    });
+    // Parent: scale 2, then translate (10, 0, 0), as a column-major matrix.
+    let parent_m = Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0)) * Mat4::from_scale(Vec3::splat(2.0));
+    let parent = doc.node(json::Node { matrix: Some(parent_m.to_cols_array()), children: Some(vec![child]), ..Default::default() });
+    doc.scene(vec![parent]);
+    let path = scratch("hierarchy").join("hierarchy.gltf");
+    doc.write_gltf(&path, Storage::External("hierarchy.bin"));
+
+    let scene = load_scene(&path).unwrap();
+    assert_eq!(scene.triangles.len(), 1);
+    let p = scene.triangles[0].p;
+    // Child: (0,0,0) -> (0,1,0), (1,0,0) -> (0,2,0), (0,1,0) -> (-1,1,0); parent: x2, +10 in x.
+    assert_near("vertex 0", p[0], Vec3::new(10.0, 2.0, 0.0));
+    assert_near("vertex 1", p[1], Vec3::new(10.0, 4.0, 0.0));
+    assert_near("vertex 2", p[2], Vec3::new(8.0, 2.0, 0.0));
+    assert!(scene.stats.inputs.iter().any(|i| i.ends_with("hierarchy.bin")), "the .bin is not among the inputs: {:?}", scene.stats.inputs);
+}
+
+#[test]
+fn a_mesh_used_by_two_nodes_is_expanded_twice_and_a_mirrored_copy_keeps_its_front_face() {
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let a = doc.node(json::Node { translation: Some([0.0, 0.0, 5.0]), ..mesh_node(mesh) });
+    let b = doc.node(json::Node { translation: Some([3.0, 0.0, 0.0]), scale: Some([-1.0, 1.0, 1.0]), ..mesh_node(mesh) });
+    doc.scene(vec![a, b]);
+    let path = scratch("instances").join("instances.gltf");
+    doc.write_gltf(&path, Storage::External("instances.bin"));
+
+    let scene = load_scene(&path).unwrap();
+    assert_eq!(scene.triangles.len(), 2, "one triangle per node using the mesh");
+    let (first, mirrored) = (scene.triangles[0], scene.triangles[1]);
+    assert!(first.p.iter().all(|p| p.z == 5.0), "first copy: {:?}", first.p);
+    let mut xs: Vec<f32> = mirrored.p.iter().map(|p| p.x).collect();
+    xs.sort_by(f32::total_cmp);
+    assert_eq!(xs, vec![2.0, 3.0, 3.0], "mirrored copy at x = 3 - x: {:?}", mirrored.p);
+    // The front face (counter-clockwise) still faces +z, as the (inverse-transposed) normals do.
+    assert!(first.cross().z > 0.0 && mirrored.cross().z > 0.0, "geometric normals {} {}", first.cross(), mirrored.cross());
+    let n = mirrored.n.expect("normals");
+    assert!(n.iter().all(|n| n.abs_diff_eq(Vec3::Z, 1e-6)), "mirrored normals {n:?}");
+}
+
+/// A textured quad doc: 2 triangles over [-1, 1]^2 at z = 0, UVs with glTF's v = 0 at the top.
+fn quad_doc(doc: &mut Doc, material: Option<json::Index<json::Material>>, tangents: bool) -> json::Index<json::Mesh> {
+    use json::mesh::Semantic;
+    let p = doc.vec3(&[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+    let n = doc.vec3(&[[0.0, 0.0, 1.0]; 4]);
+    let uv = doc.vec2(&[[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+    let i = doc.indices(&[0, 1, 2, 0, 2, 3]);
+    let mut attributes = vec![(Semantic::Positions, p), (Semantic::Normals, n), (Semantic::TexCoords(0), uv)];
+    if tangents {
+        let t = doc.vec4(&[[1.0, 0.0, 0.0, 1.0]; 4]);
+        attributes.push((Semantic::Tangents, t));
+    }
+    let prim = doc.primitive(&attributes, Some(i), material, json::mesh::Mode::Triangles);
+    doc.mesh(vec![prim])
+}
+
+fn textured_material(doc: &mut Doc, texture: json::Index<json::Texture>) -> json::Index<json::Material> {
+    doc.material(json::Material {
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_texture: Some(json::texture::Info { index: texture, tex_coord: 0, extensions: None, extras: Default::default() }),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            ..Default::default()
+        },
+        ..Default::default()
+    })
+}
+
+#[test]
+fn glb_and_data_uri_load_the_same_triangles_as_an_external_buffer() {
+    let mut doc = Doc::new();
+    let tex = doc.png_texture(&png(1, 1, &[[200, 100, 50, 255]]));
+    let m = textured_material(&mut doc, tex);
+    let mesh = quad_doc(&mut doc, Some(m), false);
+    let node = doc.node(json::Node { translation: Some([1.0, 2.0, 3.0]), ..mesh_node(mesh) });
+    doc.scene(vec![node]);
+    let dir = scratch("storage");
+    doc.write_gltf(&dir.join("external.gltf"), Storage::External("external.bin"));
+    doc.write_gltf(&dir.join("embedded.gltf"), Storage::DataUri);
+    doc.write_glb(&dir.join("binary.glb"));
+    let external = load_scene(&dir.join("external.gltf")).unwrap();
+    assert_eq!(external.triangles.len(), 2);
+    assert_eq!(external.textures.len(), 1);
+    for name in ["embedded.gltf", "binary.glb"] {
+        let other = load_scene(&dir.join(name)).unwrap();
+        assert_eq!(other.triangles, external.triangles, "{name}");
+        assert_eq!(other.materials, external.materials, "{name}");
+        assert_eq!(other.textures[0].texels, external.textures[0].texels, "{name}");
+        assert_eq!(other.stats.inputs, vec![dir.join(name)], "{name} reads no other file");
+    }
+}
+
+/// Renders the 2x2 texture red | green over blue | black on a quad filling the view, lit by a
+/// directional light from the camera, and checks each quadrant: a flipped v swaps top and
+/// bottom, a flipped u left and right.
+#[test]
+fn base_colour_texture_lands_on_the_right_face_the_right_way_up() {
+    let mut doc = Doc::new();
+    let texels = [[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [0, 0, 0, 255]];
+    let tex = doc.png_texture(&png(2, 2, &texels));
+    let m = textured_material(&mut doc, tex);
+    let mesh = quad_doc(&mut doc, Some(m), false);
+    let quad = doc.node(mesh_node(mesh));
+    let camera = doc.root.push(perspective(30f32.to_radians()));
+    let cam_node = doc.node(json::Node { camera: Some(camera), translation: Some([0.0, 0.0, 3.0]), ..Default::default() });
+    let sun = doc.light(light(khr::Type::Directional, 1.0, None));
+    let sun_node = doc.node(json::Node { extensions: sun, ..Default::default() });
+    doc.scene(vec![quad, cam_node, sun_node]);
+    let path = scratch("texture").join("texture.glb");
+    doc.write_glb(&path);
+
+    let scene = load_scene(&path).unwrap();
+    assert_eq!(scene.cameras.len(), 1);
+    let image = whitted_image(&scene, 32, 32);
+    let dominant = |x: u32, y: u32| -> usize {
+        let c = image.get(x, y);
+        (0..3).max_by(|&a, &b| c[a].total_cmp(&c[b])).unwrap()
+    };
+    assert_eq!(dominant(8, 8), 0, "top left is red: {:?}", image.get(8, 8));
+    assert_eq!(dominant(24, 8), 1, "top right is green: {:?}", image.get(24, 8));
+    assert_eq!(dominant(8, 24), 2, "bottom left is blue: {:?}", image.get(8, 24));
+    let black = image.get(24, 24);
+    assert!(black.iter().all(|&c| c < 0.1), "bottom right is black: {black:?}");
+    assert!(image.get(8, 8)[0] > 0.5, "the red texel is lit: {:?}", image.get(8, 8));
+}
+
+fn perspective(yfov: f32) -> json::Camera {
+    json::Camera {
+        name: None,
+        orthographic: None,
+        perspective: Some(json::camera::Perspective {
+            aspect_ratio: Some(1.0),
+            yfov,
+            zfar: None,
+            znear: 0.01,
+            extensions: None,
+            extras: Default::default(),
+        }),
+        type_: Valid(json::camera::Type::Perspective),
+        extensions: None,
+        extras: Default::default(),
+    }
+}
+
+fn light(type_: khr::Type, intensity: f32, spot: Option<khr::Spot>) -> khr::Light {
+    khr::Light {
+        color: [1.0, 1.0, 1.0],
+        extensions: None,
+        extras: Default::default(),
+        intensity,
+        name: None,
+        range: None,
+        spot,
+        type_: Valid(type_),
+    }
+}
+
+/// Two cameras; the CLI's `--camera 1` renders from the second, `--camera 2` is refused.
+#[test]
+fn camera_picked_by_index_has_its_own_eye() {
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let tri = doc.node(mesh_node(mesh));
+    let c0 = doc.root.push(perspective(0.8));
+    let c1 = doc.root.push(perspective(0.5));
+    let n0 = doc.node(json::Node { camera: Some(c0), translation: Some([0.0, 0.0, 4.0]), ..Default::default() });
+    // The second camera hangs under a parent that moves it; it looks down -z of its node.
+    let n1 = doc.node(json::Node { camera: Some(c1), translation: Some([0.25, 0.25, 2.0]), ..Default::default() });
+    let parent = doc.node(json::Node { translation: Some([0.0, 0.0, 1.0]), children: Some(vec![n1]), ..Default::default() });
+    doc.scene(vec![tri, n0, parent]);
+    let path = scratch("cameras").join("cameras.gltf");
+    doc.write_gltf(&path, Storage::External("cameras.bin"));
+
+    let scene = load_scene(&path).unwrap();
+    assert_eq!(scene.cameras.len(), 2);
+    assert_near("camera 0 eye", scene.cameras[0].eye, Vec3::new(0.0, 0.0, 4.0));
+    assert_near("camera 1 eye", scene.cameras[1].eye, Vec3::new(0.25, 0.25, 3.0));
+    assert_near("camera 1 view", (scene.cameras[1].target - scene.cameras[1].eye).normalize(), -Vec3::Z);
+    assert!((scene.cameras[1].fov_y_deg - 0.5f32.to_degrees()).abs() < 1e-4);
+    assert_eq!(scene.camera, scene.cameras[0], "the first camera renders by default");
+
+    let out = scratch("cameras").join("one.png");
+    let o = vkrt(&["render", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "8", "--height", "8", "--camera", "1", "--verbose"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("camera: --eye 0.25,0.25,3 "), "{}", stderr(&o));
+    let o = vkrt(&["render", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "8", "--height", "8", "--camera", "2"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--camera 2: the scene file defines 2 camera(s)"), "{}", stderr(&o));
+}
+
+/// A floor (y = 0, base colour 0.5, not metallic) seen from straight above by a glTF camera,
+/// and the given light node extension at `light_node`.
+fn floor_scene(test: &str, light: khr::Light, light_node: json::Node) -> Scene {
+    let mut doc = Doc::new();
+    let floor = doc.material(json::Material {
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([0.5, 0.5, 0.5, 1.0]),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            ..Default::default()
+        },
+        ..Default::default()
+    });
+    let s = 4.0;
+    let mesh = doc.triangles(&[[-s, 0.0, s], [s, 0.0, s], [s, 0.0, -s], [-s, 0.0, -s]], &[[0.0, 1.0, 0.0]; 4], &[0, 1, 2, 0, 2, 3], Some(floor));
+    let floor_node = doc.node(mesh_node(mesh));
+    let camera = doc.root.push(perspective(90f32.to_radians()));
+    let down = Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+    let cam = doc.node(json::Node {
+        camera: Some(camera),
+        translation: Some([0.0, 3.0, 0.0]),
+        rotation: Some(json::scene::UnitQuaternion(down.to_array())),
+        ..Default::default()
+    });
+    let ext = doc.light(light);
+    let l = doc.node(json::Node { extensions: ext, ..light_node });
+    doc.scene(vec![floor_node, cam, l]);
+    let path = scratch(test).join(format!("{test}.gltf"));
+    doc.write_gltf(&path, Storage::External(Box::leak(format!("{test}.bin").into_boxed_str())));
+    load_scene(&path).unwrap()
+}
+
+/// Where the ray through the centre of pixel (x, y) meets the floor y = 0.
+fn floor_point(scene: &Scene, x: u32, y: u32, size: u32) -> Vec3 {
+    let f = scene.camera.frame().unwrap();
+    let d = f.ray_direction(x as f32 + 0.5, y as f32 + 0.5, size, size);
+    f.origin + d * (-f.origin.y / d.y)
+}
+
+const SIZE: u32 = 32;
+
+#[test]
+fn point_light_falls_off_with_the_inverse_square_of_distance() {
+    let scene = floor_scene("point", light(khr::Type::Point, 2.0, None), json::Node { translation: Some([0.0, 1.0, 0.0]), ..Default::default() });
+    assert_eq!(scene.lights, vec![Light::Point { position: Vec3::Y, intensity: Vec3::splat(2.0) }]);
+    let image = whitted_image(&scene, SIZE, SIZE);
+    // Whitted: Kd * I * cos / d^2 (scene::Light). Two pixels at different distances.
+    let expect = |x: u32, y: u32| {
+        let p = floor_point(&scene, x, y, SIZE);
+        let to = Vec3::Y - p;
+        0.5 * 2.0 * (to.normalize().y) / to.length_squared()
+    };
+    let (near, far) = ((16, 16), (30, 16));
+    let (gn, gf) = (image.get(near.0, near.1)[0], image.get(far.0, far.1)[0]);
+    let (wn, wf) = (expect(near.0, near.1), expect(far.0, far.1));
+    assert!(wn / wf > 4.0, "the test points are far enough apart ({wn} vs {wf})");
+    assert!(((gn / gf) / (wn / wf) - 1.0).abs() < 0.02, "ratio near/far {} want {}", gn / gf, wn / wf);
+    assert!((gn / wn - 1.0).abs() < 0.02, "near value {gn} want {wn}");
+}
+
+#[test]
+fn spot_light_lights_its_inner_cone_fades_to_its_outer_cone_and_is_dark_outside() {
+    let (inner, outer) = (20f32.to_radians(), 40f32.to_radians());
+    let spot = khr::Spot { inner_cone_angle: inner, outer_cone_angle: outer };
+    // The light shines down its node's -z: rotate -z onto -y.
+    let down = Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+    let node = json::Node { translation: Some([0.0, 1.0, 0.0]), rotation: Some(json::scene::UnitQuaternion(down.to_array())), ..Default::default() };
+    let scene = floor_scene("spot", light(khr::Type::Spot, 3.0, Some(spot)), node);
+    let Light::Cone { direction, cos_inner, cos_outer, .. } = scene.lights[0] else { panic!("not a cone light: {:?}", scene.lights) };
+    assert_near("spot direction", direction, -Vec3::Y);
+    assert!((cos_inner - inner.cos()).abs() < 1e-6 && (cos_outer - outer.cos()).abs() < 1e-6);
+    let image = whitted_image(&scene, SIZE, SIZE);
+    let angle_and_expect = |x: u32| {
+        let p = floor_point(&scene, x, 16, SIZE);
+        let to = Vec3::Y - p;
+        let cos = to.normalize().y;
+        let ramp = ((cos - outer.cos()) / (inner.cos() - outer.cos())).clamp(0.0, 1.0);
+        (cos.acos().to_degrees(), 0.5 * 3.0 * ramp * ramp * cos / to.length_squared())
+    };
+    // Pixel columns whose floor points are inside, between and outside the cones.
+    let mut seen = [false; 3];
+    for x in 16..SIZE {
+        let (deg, want) = angle_and_expect(x);
+        let got = image.get(x, 16)[0];
+        if deg < 20.0 {
+            seen[0] = true;
+            assert!(got > 0.0 && (got / want - 1.0).abs() < 0.02, "inside at {deg} degrees: {got}, want {want}");
+        } else if deg > 20.5 && deg < 39.5 {
+            seen[1] = true;
+            assert!((got - want).abs() < 0.02 * want + 1e-4, "between at {deg} degrees: {got}, want {want}");
+        } else if deg > 40.0 {
+            seen[2] = true;
+            assert_eq!(got, 0.0, "outside at {deg} degrees");
+        }
+    }
+    assert_eq!(seen, [true; 3], "the row crosses all three zones");
+
+    // The path tracer: radiance Kd / pi * E with E = I f cos / d^2 (next-event estimation of the
+    // one delta light; everything else escapes to a black sky).
+    let acc = common::render_path(&scene, &common::path_settings(SIZE, SIZE, 16));
+    let img = acc.image();
+    for x in [17u32, 24, 31] {
+        let (deg, want) = angle_and_expect(x);
+        let got = img.get(x, 16)[0];
+        let want = want / std::f32::consts::PI;
+        assert!((got - want).abs() <= 0.05 * want + 2e-3, "path tracer at {deg} degrees: {got}, want {want}");
+    }
+}
+
+#[test]
+fn directional_light_shines_along_its_node_minus_z() {
+    // Tilted 60 degrees from the vertical: E cos = 2 * 0.5 on the floor.
+    let tilt = Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2 + 60f32.to_radians());
+    let node = json::Node { rotation: Some(json::scene::UnitQuaternion(tilt.to_array())), ..Default::default() };
+    let scene = floor_scene("directional", light(khr::Type::Directional, 2.0, None), node);
+    let Light::Directional { direction, .. } = scene.lights[0] else { panic!("{:?}", scene.lights) };
+    assert!((direction.y - 0.5).abs() < 1e-5, "toward the light, 60 degrees from the normal: {direction}");
+    let image = whitted_image(&scene, SIZE, SIZE);
+    let got = image.get(16, 16)[0];
+    assert!((got - 0.5 * 2.0 * 0.5).abs() < 1e-3, "Kd * E * cos: {got}");
+}
+
+#[test]
+fn a_file_without_lights_gets_the_default_light_of_a_bare_obj() {
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    let dir = scratch("unlit");
+    doc.write_gltf(&dir.join("unlit.gltf"), Storage::External("unlit.bin"));
+    std::fs::write(dir.join("unlit.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n").unwrap();
+    let gltf = load_scene(&dir.join("unlit.gltf")).unwrap();
+    let obj = load_scene(&dir.join("unlit.obj")).unwrap();
+    assert_eq!(gltf.lights.len(), 1);
+    assert_eq!(gltf.lights, obj.lights);
+    assert_eq!(gltf.ambient, obj.ambient);
+    assert_eq!(gltf.camera, obj.camera);
+    // The primitive has no material: the spec's default (white, metallic 1, roughness 1).
+    let m = &gltf.materials[gltf.triangles[0].material as usize];
+    assert_eq!(m.diffuse, Vec3::ONE);
+    assert_eq!(m.metallic_roughness.map(|mr| (mr.metallic, mr.roughness)), Some((1.0, 1.0)));
+}
+
+#[test]
+fn tangents_are_kept_per_triangle_and_flip_handedness_when_mirrored() {
+    let mut doc = Doc::new();
+    let tex = doc.png_texture(&png(1, 1, &[[128, 128, 255, 255]]));
+    let m = doc.material(json::Material {
+        normal_texture: Some(json::material::NormalTexture { index: tex, scale: 0.5, tex_coord: 0, extensions: None, extras: Default::default() }),
+        ..Default::default()
+    });
+    let with = quad_doc(&mut doc, Some(m), true);
+    let without = quad_doc(&mut doc, Some(m), false);
+    let a = doc.node(mesh_node(with));
+    let b = doc.node(json::Node { scale: Some([-1.0, 1.0, 1.0]), translation: Some([5.0, 0.0, 0.0]), ..mesh_node(with) });
+    let c = doc.node(json::Node { translation: Some([0.0, 5.0, 0.0]), ..mesh_node(without) });
+    doc.scene(vec![a, b, c]);
+    let path = scratch("tangents").join("tangents.glb");
+    doc.write_glb(&path);
+    let scene = load_scene(&path).unwrap();
+    assert_eq!(scene.triangles.len(), 6);
+    assert_eq!(scene.tangents.len(), scene.triangles.len(), "one tangent triple per triangle");
+    assert_eq!(scene.materials[0].normal_texture, Some(0));
+    assert_eq!(scene.materials[0].normal_scale, 0.5);
+    for t in &scene.tangents[0..2] {
+        assert!(t.iter().all(|t| t.abs_diff_eq(Vec4::new(1.0, 0.0, 0.0, 1.0), 1e-6)), "{t:?}");
+    }
+    for t in &scene.tangents[2..4] {
+        assert!(t.iter().all(|t| t.abs_diff_eq(Vec4::new(-1.0, 0.0, 0.0, -1.0), 1e-6)), "mirrored: {t:?}");
+    }
+    assert!(scene.tangents[4..].iter().flatten().all(|t| *t == Vec4::ZERO), "no TANGENT: zeros");
+
+    // Without a normal map, no tangents at all.
+    let mut doc = Doc::new();
+    let mesh = quad_doc(&mut doc, None, true);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    let path = scratch("tangents").join("plain.glb");
+    doc.write_glb(&path);
+    assert!(load_scene(&path).unwrap().tangents.is_empty());
+}
+
+/// Loads `path` through the library and the CLI: both fail, naming the file and `location`.
+fn assert_fails_naming(path: &Path, location: &str, words: &str) {
+    let e = format!("{:#}", load_scene(path).expect_err("the file must not load"));
+    assert!(e.contains(&path.display().to_string()) && e.contains(location) && e.contains(words), "{e}");
+    let out = path.with_extension("png");
+    let o = vkrt(&["render", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "4", "--height", "4"]);
+    assert!(!o.status.success(), "the CLI must fail");
+    let err = stderr(&o);
+    assert!(err.contains(location) && err.contains(words) && !err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn unsupported_mode_required_extension_and_missing_bin_are_errors_naming_file_and_location() {
+    let dir = scratch("errors");
+    // A LINES primitive, as the second primitive of mesh 0.
+    let mut doc = Doc::new();
+    let p = doc.vec3(&TRI);
+    let tris = doc.primitive(&[(json::mesh::Semantic::Positions, p)], None, None, json::mesh::Mode::Triangles);
+    let lines = doc.primitive(&[(json::mesh::Semantic::Positions, p)], None, None, json::mesh::Mode::Lines);
+    let mesh = doc.mesh(vec![tris, lines]);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.write_gltf(&dir.join("lines.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("lines.gltf"), "meshes[0].primitives[1]", "LINES");
+
+    // A required extension vkrt does not have.
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.root.extensions_used = vec!["KHR_draco_mesh_compression".into()];
+    doc.root.extensions_required = vec!["KHR_draco_mesh_compression".into()];
+    doc.write_gltf(&dir.join("draco.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("draco.gltf"), "extensionsRequired[0]", "KHR_draco_mesh_compression");
+
+    // The same extension only used: one warning, and the file loads.
+    doc.root.extensions_required.clear();
+    doc.write_gltf(&dir.join("draco_optional.gltf"), Storage::DataUri);
+    let scene = load_scene(&dir.join("draco_optional.gltf")).unwrap();
+    let warnings: Vec<&String> = scene.stats.warnings.iter().filter(|w| w.contains("KHR_draco_mesh_compression")).collect();
+    assert_eq!(warnings.len(), 1, "{:?}", scene.stats.warnings);
+    assert!(warnings[0].contains("extensionsUsed[0]"));
+
+    // An image `image` cannot decode, in an external file.
+    let mut doc = Doc::new();
+    let image = doc.root.push(json::Image {
+        buffer_view: None,
+        mime_type: None,
+        name: Some("broken".into()),
+        uri: Some("broken.png".into()),
+        extensions: None,
+        extras: Default::default(),
+    });
+    let tex = doc.root.push(json::Texture { name: None, sampler: None, source: image, extensions: None, extras: Default::default() });
+    let m = textured_material(&mut doc, tex);
+    let mesh = quad_doc(&mut doc, Some(m), false);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    std::fs::write(dir.join("broken.png"), b"not an image at all").unwrap();
+    doc.write_gltf(&dir.join("broken_image.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("broken_image.gltf"), "images[0]", "broken.png");
+
+    // A .bin that is not there.
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.write_gltf(&dir.join("nobin.gltf"), Storage::External("nobin.bin"));
+    std::fs::remove_file(dir.join("nobin.bin")).unwrap();
+    assert_fails_naming(&dir.join("nobin.gltf"), "buffers[0]", "nobin.bin");
+}
