@@ -17,7 +17,7 @@ pub fn load_material_textures(scene: &mut Scene, file: &Path, cache: &mut Textur
         let m = &scene.materials[i];
         let name = m.name.clone();
         let (diffuse_map, alpha_map) = (m.diffuse_map.clone(), m.alpha_map.clone());
-        if diffuse_map.is_none() && alpha_map.is_none() {
+        if diffuse_map.is_none() && alpha_map.is_none() && m.normal_map.is_none() {
             // Nothing to load; a loader that decodes its own textures (glTF) has set the
             // indices already, and they stay.
             continue;
