@@ -33,6 +33,21 @@ fn furnace(extra: Vec<vkrt::scene::Triangle>, extra_materials: Vec<Material>) ->
     }
 }
 
+/// `scene` at 48x48 with next-event estimation (256 spp) and with BSDF sampling alone (1024
+/// spp), compared by 8x8 block means: the lit blocks (BSDF mean above 0.05) as (NEE, BSDF)
+/// pairs, and the worst relative difference among them.
+fn nee_against_bsdf_sampling(scene: &vkrt::scene::Scene) -> (Vec<(f64, f64)>, f64) {
+    let nee = common::render_path(scene, &common::path_settings(48, 48, 256));
+    let mut settings = common::path_settings(48, 48, 1024);
+    settings.nee = false;
+    let bsdf = common::render_path(scene, &settings);
+    let (a, b) = (block_means(&nee.image()), block_means(&bsdf.image()));
+    let lit: Vec<(f64, f64)> = a.into_iter().zip(b).filter(|&(_, y)| y > 0.05).collect();
+    let worst = lit.iter().map(|(x, y)| (x / y - 1.0).abs()).fold(0.0f64, f64::max);
+    eprintln!("worst of {} lit 8x8 blocks differs by {:.2} %", lit.len(), worst * 100.0);
+    (lit, worst)
+}
+
 /// The mean over the channels of each 8x8-pixel block (edge blocks over the pixels they have),
 /// row by row.
 fn block_means(image: &vkrt::integrator::Image) -> Vec<f64> {
@@ -182,18 +197,11 @@ fn unequal_emitters_converge_to_the_same_image_with_and_without_light_sampling()
         camera: Camera { eye: Vec3::new(0.0, 6.0, 5.0), target: Vec3::new(0.0, 0.0, 0.0), up: Vec3::Y, fov_y_deg: 60.0, ..Camera::default() },
         ..Scene::default()
     };
-    let nee = common::render_path(&scene, &common::path_settings(48, 48, 256));
-    let mut settings = common::path_settings(48, 48, 1024);
-    settings.nee = false;
-    let bsdf = common::render_path(&scene, &settings);
     // 8x8-pixel block means rather than pixels: where the points land on a light moves light
     // between neighbouring blocks, which per-pixel noise would hide. The worst lit block
     // differs by ~2.3 % here; with the rescale of either branch of the pick left out, by 15-16 %.
     // Blocks that see mostly sky or the lights' black backs carry no test (and divide badly).
-    let (a, b) = (block_means(&nee.image()), block_means(&bsdf.image()));
-    let lit: Vec<(f64, f64)> = a.into_iter().zip(b).filter(|&(_, y)| y > 0.05).collect();
-    let worst = lit.iter().map(|(x, y)| (x / y - 1.0).abs()).fold(0.0f64, f64::max);
-    eprintln!("worst of {} lit 8x8 blocks differs by {:.2} %", lit.len(), worst * 100.0);
+    let (lit, worst) = nee_against_bsdf_sampling(&scene);
     assert!(lit.len() >= 12, "only {} of 36 blocks are lit: the lights do not reach the floor", lit.len());
     assert!(worst <= 0.06, "light sampling and BSDF sampling differ by {:.2} % in a block (max 6 %)", worst * 100.0);
 }
@@ -258,14 +266,7 @@ fn a_textured_emitter_converges_to_the_same_image_with_and_without_light_samplin
         camera: Camera { eye: Vec3::new(0.0, 6.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 60.0, ..Camera::default() },
         ..Scene::default()
     };
-    let nee = common::render_path(&scene, &common::path_settings(48, 48, 256));
-    let mut settings = common::path_settings(48, 48, 1024);
-    settings.nee = false;
-    let bsdf = common::render_path(&scene, &settings);
-    let (a, b) = (block_means(&nee.image()), block_means(&bsdf.image()));
-    let lit: Vec<(f64, f64)> = a.into_iter().zip(b).filter(|&(_, y)| y > 0.05).collect();
-    let worst = lit.iter().map(|(x, y)| (x / y - 1.0).abs()).fold(0.0f64, f64::max);
-    eprintln!("worst of {} lit 8x8 blocks differs by {:.2} %", lit.len(), worst * 100.0);
+    let (lit, worst) = nee_against_bsdf_sampling(&scene);
     assert!(lit.len() >= 12, "only {} blocks are lit", lit.len());
     assert!(worst <= 0.06, "light sampling and BSDF sampling differ by {:.2} % in a block (max 6 %)", worst * 100.0);
 }
