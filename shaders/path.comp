@@ -58,7 +58,7 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
         rays++;
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) {
-            if (HAS_ENVMAP) {
+            if (env_present()) {
                 // Light sampling picks the map too: weigh the two by the power heuristic.
                 float w = 1.0;
                 if (nee && !prev_delta) w = power_heuristic(prev_pdf, frame.env_pick_pmf * env_pdf(dir));

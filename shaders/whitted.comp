@@ -155,7 +155,7 @@ vec3 whitted(vec3 origin, vec3 dir) {
         Task task = stack[--sp];
         Hit h = trace_closest(task.origin, task.dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) {
-            if (HAS_ENVMAP) color += task.weight * env_radiance(task.dir);
+            if (env_present()) color += task.weight * env_radiance(task.dir);
             else if (HAS_SKY) color += task.weight * sky_radiance(task.dir);
             continue;
         }

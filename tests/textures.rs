@@ -7,7 +7,7 @@ mod common;
 
 use glam::{Vec2, Vec3};
 use vkrt::bvh::BuilderKind;
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::prepare::{EnvLight, GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::path::{PathSettings, Stop};
 use vkrt::integrator::{whitted, Image, RenderSettings};
 use vkrt::accel::LayoutKind;
@@ -36,9 +36,27 @@ fn albedo_scene(triangles: Vec<Triangle>, materials: Vec<Material>, textures: Ve
 }
 
 fn whitted_image(scene: &Scene, layout: LayoutKind, size: (u32, u32), all_features: bool) -> Image {
+    whitted_image_lit(scene, None, layout, size, all_features)
+}
+
+fn path_image(scene: &Scene, size: (u32, u32), spp: u64, max_depth: Option<u32>, all_features: bool) -> Image {
+    path_image_lit(scene, None, size, spp, max_depth, all_features)
+}
+
+/// `scene` on the device, with `env` set as its environment map when given (as `--envmap` does).
+fn upload_lit<'a>(ctx: &'a vkrt::gpu::Context, scene: &Scene, env: Option<&EnvLight>, options: &PrepareOptions) -> GpuScene<'a> {
+    let prepared = PreparedScene::new(scene, options).unwrap();
+    let mut gpu = GpuScene::upload(ctx, &prepared).unwrap();
+    if let Some(env) = env {
+        let a = prepared.arrays();
+        gpu.set_environment(ctx, env, a.picks, a.total_weight, scene.stats.default_light).unwrap();
+    }
+    gpu
+}
+
+fn whitted_image_lit(scene: &Scene, env: Option<&EnvLight>, layout: LayoutKind, size: (u32, u32), all_features: bool) -> Image {
     let ctx = common::gpu_context();
-    let prepared = PreparedScene::new(scene, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() }).unwrap();
-    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+    let gpu = upload_lit(&ctx, scene, env, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() });
     let settings =
         RenderSettings { width: size.0, height: size.1, spp: 1, max_depth: 3, all_features, ..RenderSettings::default() };
     let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
@@ -47,14 +65,19 @@ fn whitted_image(scene: &Scene, layout: LayoutKind, size: (u32, u32), all_featur
     image
 }
 
-fn path_image(scene: &Scene, size: (u32, u32), spp: u64, max_depth: Option<u32>, all_features: bool) -> Image {
+fn path_image_lit(scene: &Scene, env: Option<&EnvLight>, size: (u32, u32), spp: u64, max_depth: Option<u32>, all_features: bool) -> Image {
     let settings = PathSettings {
         image: RenderSettings { width: size.0, height: size.1, all_features, ..RenderSettings::default() },
         max_depth,
         stop: Stop { spp: Some(spp), ..Stop::default() },
         ..PathSettings::default()
     };
-    common::render_path(scene, &settings).image()
+    let ctx = common::gpu_context();
+    let gpu = upload_lit(&ctx, scene, env, &PrepareOptions::default());
+    let (acc, stats) = vkrt::integrator::path::render(&ctx, &gpu, &settings, None, &mut Default::default()).unwrap();
+    assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples");
+    common::assert_no_validation_messages(&ctx);
+    acc.image()
 }
 
 fn srgb(b: u8) -> f32 {
@@ -306,13 +329,13 @@ fn load(rel: &str) -> Scene {
 
 /// Whitted and path-traced images of `scene` from the specialised and the all-features shader
 /// agree within 1e-5 absolute (the same arithmetic, only dead branches removed).
-fn assert_specialised_matches_all_features(name: &str, scene: &Scene) {
-    let w_spec = whitted_image(scene, LayoutKind::Threaded, (32, 32), false);
-    let w_all = whitted_image(scene, LayoutKind::Threaded, (32, 32), true);
+fn assert_specialised_matches_all_features(name: &str, scene: &Scene, env: Option<&EnvLight>) {
+    let w_spec = whitted_image_lit(scene, env, LayoutKind::Threaded, (32, 32), false);
+    let w_all = whitted_image_lit(scene, env, LayoutKind::Threaded, (32, 32), true);
     let d = max_abs_diff(&w_spec, &w_all);
     assert!(d <= 1e-5, "{name}: Whitted specialised vs all-features differ by {d}");
-    let p_spec = path_image(scene, (32, 32), 2, Some(5), false);
-    let p_all = path_image(scene, (32, 32), 2, Some(5), true);
+    let p_spec = path_image_lit(scene, env, (32, 32), 2, Some(5), false);
+    let p_all = path_image_lit(scene, env, (32, 32), 2, Some(5), true);
     let d = max_abs_diff(&p_spec, &p_all);
     assert!(d <= 1e-5, "{name}: path specialised vs all-features differ by {d}");
 }
@@ -370,8 +393,17 @@ fn specialised_and_all_features_shaders_agree() {
     vkrt::scene::tangents::fill_missing_tangents(&mut gltf);
     scenes.push(("glTF metallic-roughness, normal map, emission texture", gltf));
     for (name, scene) in &scenes {
-        assert_specialised_matches_all_features(name, scene);
+        assert_specialised_matches_all_features(name, scene, None);
     }
+    // The envmap test's sky-and-sun map over the textured shadow scene: a map is bound at
+    // upload, so it is not one of the `scenes` above (whose all-features renders must not see
+    // one: a 0 x 0 map once made the all-features shader search its CDF forever).
+    let mut lit = shadow_scene();
+    lit.sky = Sky::Environment { scale: 0.5, rotation_deg: 30.0 };
+    let map = vkrt::scene::envmap::EnvMap::load(&common::repo_path("tests/refs/envmap-sun.exr")).unwrap();
+    let env = EnvLight::new(&map, 0.5, 30.0);
+    assert_specialised_matches_all_features("environment map", &lit, Some(&env));
+    scenes.push(("environment map", lit));
     // Every feature is on in at least one scene, so each one's removal is covered.
     for f in vkrt::prepare::features::ALL {
         assert!(scenes.iter().any(|(_, s)| vkrt::prepare::features::Features::of(s).has(f)), "no scene uses {}", f.name);
@@ -385,7 +417,7 @@ fn shared_lab_floor_specialised_and_all_features_agree() {
     let test = "shared_lab_floor_specialised_and_all_features_agree";
     let Some(path) = common::shared_or_skip(test, "scenes/lab/floor/floor.yaml") else { return };
     let floor = vkrt::scene::load_scene(&path).unwrap();
-    assert_specialised_matches_all_features("lab floor", &floor);
+    assert_specialised_matches_all_features("lab floor", &floor, None);
 }
 
 #[test]

@@ -8,6 +8,14 @@
 #define VKRT_ENVIRONMENT_GLSL
 #include "scene_bindings.glsl"
 #include "math.glsl"
+#include "features.glsl"
+
+// Whether the scene has a map. HAS_ENVMAP only says the shader may meet one: the all-features
+// variant (every specialization constant left true) runs scenes without a map too, whose frame
+// says width 0, and must then see the sky and the light table as they are.
+bool env_present() {
+    return HAS_ENVMAP && frame.env_width != 0u;
+}
 
 // The map is turned about +y by the frame's angle: world = R local.
 vec3 env_to_local(vec3 d) {
@@ -58,7 +66,8 @@ uint env_find_interval(uint base, uint n, float u) {
     uint lo = 0u;
     uint hi = n;
     while (hi - lo > 1u) {
-        uint mid = (lo + hi) / 2u;
+        // Not (lo + hi) / 2: that overflows for n near 2^32 and the search never ends.
+        uint mid = lo + (hi - lo) / 2u;
         if (env_cdf(base + mid) <= u) lo = mid;
         else hi = mid;
     }

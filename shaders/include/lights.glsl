@@ -83,7 +83,7 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
         return true;
     }
     // The environment map is the table's last entry (prepare::GpuScene::set_environment).
-    if (HAS_ENVMAP && j == params.pick_count - 1u) {
+    if (env_present() && j == params.pick_count - 1u) {
         float pdf;
         if (!env_sample(u, ls.wi, pdf)) return false;
         ls.pdf = pmf * pdf;
