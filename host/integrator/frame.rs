@@ -22,10 +22,10 @@ pub fn frame_for(scene: &GpuScene, settings: &RenderSettings) -> Result<GpuFrame
         width: settings.width,
         cam_up: cam.up.to_array(),
         height: settings.height,
-        // The Whitted integrator's light from an environment map: its mean radiance as ambient
-        // light (unshadowed; what a Lambert surface under a uniform sky of that radiance
-        // reflects, times Kd). The path tracer never reads the ambient term.
-        ambient: (info.ambient + scene.env_ambient).to_array(),
+        // Whitted's ambient term, with an environment map's mean radiance in it (unshadowed:
+        // what a Lambert surface under a uniform sky of that radiance reflects, times Kd). The
+        // path tracer never reads it.
+        ambient: scene.ambient.to_array(),
         max_depth: settings.max_depth,
         light_count: scene.light_count,
         emitter_count: scene.emitter_count,

@@ -53,7 +53,10 @@ fn cdf_of(weights: &[f64]) -> Vec<f32> {
         acc += w;
         out.push(if total > 0.0 { (acc / total) as f32 } else { (k + 1) as f32 / weights.len() as f32 });
     }
-    *out.last_mut().unwrap_or(&mut 0.0) = 1.0;
+    // The sum rounds: close the CDF exactly, so that u < 1 always finds an interval.
+    if let Some(last) = out.last_mut() {
+        *last = 1.0;
+    }
     out
 }
 
@@ -63,7 +66,7 @@ fn find_interval(cdf: &[f32], u: f32) -> usize {
     let n = cdf.len() - 1;
     let (mut lo, mut hi) = (0usize, n);
     while hi - lo > 1 {
-        let mid = (lo + hi) / 2;
+        let mid = lo + (hi - lo) / 2;
         if cdf[mid] <= u { lo = mid } else { hi = mid }
     }
     lo
@@ -82,7 +85,6 @@ impl EnvLight {
         let mut row_weights = Vec::with_capacity(rows);
         let mut conditional = Vec::with_capacity(rows * (w + 1));
         let mut mean_rgb = glam::DVec3::ZERO;
-        let mut mean_integral = 0.0;
         for j in 0..rows {
             let sin_theta = (PI * (j as f64 + 0.5) / rows as f64).sin();
             let cells: Vec<f64> = (0..w)
@@ -106,7 +108,7 @@ impl EnvLight {
             }
             mean_rgb += row_rgb / w as f64 * solid_angle;
         }
-        mean_integral += (mean_rgb.x + mean_rgb.y + mean_rgb.z) / 3.0 * scale as f64;
+        let mean_integral = (mean_rgb.x + mean_rgb.y + mean_rgb.z) / 3.0 * scale as f64;
         let marginal = cdf_of(&row_weights);
         let cdf = marginal.iter().chain(&conditional).map(|x| x.to_bits()).collect();
         Self {

@@ -77,9 +77,10 @@ pub struct GpuScene<'a> {
     pub env: super::envmap::EnvFrame,
     /// The probability that light sampling picks the map (its light-table entry, the last).
     pub env_pick_pmf: f32,
-    /// The map's mean radiance, the Whitted integrator's ambient light from it (zero without
-    /// one; the default light's ambient is taken out when the map replaces it).
-    pub env_ambient: glam::Vec3,
+    /// The ambient light the Whitted integrator adds (Kd times it, unshadowed): the scene's
+    /// (`SceneInfo::ambient`), plus an environment map's mean radiance; a map that replaces the
+    /// default light replaces the ambient that came with it too.
+    pub ambient: glam::Vec3,
     pub info: SceneInfo,
 }
 
@@ -114,7 +115,7 @@ impl<'a> GpuScene<'a> {
             env_cdf: TexelArray::with_data::<u32>(ctx, "environment map distribution", &[], R32Uint)?,
             env: super::envmap::EnvFrame::NONE,
             env_pick_pmf: 0.0,
-            env_ambient: glam::Vec3::ZERO,
+            ambient: info.ambient,
             info: info.clone(),
         })
     }
@@ -139,11 +140,9 @@ impl<'a> GpuScene<'a> {
         self.inv_total_weight = if table.total_weight > 0.0 { (1.0 / table.total_weight) as f32 } else { 0.0 };
         self.env_pick_pmf = table.picks.last().map_or(0.0, |p| p.pmf);
         self.env = env.frame_fields();
-        self.env_ambient = env.mean_radiance;
-        if !dropped.is_empty() {
-            // The loader's ambient came with the default light.
-            self.env_ambient -= self.info.ambient;
-        }
+        // The loader's ambient came with the default light: it goes with it.
+        let kept = if dropped.is_empty() { self.info.ambient } else { glam::Vec3::ZERO };
+        self.ambient = kept + env.mean_radiance;
         Ok(())
     }
 
