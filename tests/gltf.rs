@@ -1,5 +1,5 @@
 //! The glTF 2.0 loader (host/scene/gltf/) on files the tests write themselves
-//! (tests/common/gltf_writer.rs): transforms, instancing, mirroring, the three buffer storages,
+//! (tests/common/gltf_writer.rs): transforms, instancing, mirroring, the three buffer storages, sparse accessors,
 //! textures on the right face, cameras by index, punctual lights in both integrators, and errors
 //! that name file and location.
 
@@ -125,6 +125,36 @@ fn textured_material(doc: &mut Doc, texture: json::Index<json::Texture>) -> json
         },
         ..Default::default()
     })
+}
+
+/// Sparse accessors (glTF 2.0 section 3.6.2.3): a base buffer view with some elements
+/// substituted, and one with no buffer view at all (zeros, then the substitutions).
+#[test]
+fn sparse_accessors_substitute_their_elements() {
+    use json::mesh::Semantic;
+    let mut doc = Doc::new();
+    // A quad whose corner 2 is moved from (1, 1, 0) to (2, 3, 0) by the sparse block.
+    let quad = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    let p = doc.vec3_sparse(4, Some(&quad), &[2], &[[2.0, 3.0, 0.0]]);
+    // Normals from zeros: every element substituted with +z.
+    let n = doc.vec3_sparse(4, None, &[0, 1, 2, 3], &[[0.0, 0.0, 1.0]; 4]);
+    let i = doc.indices(&[0, 1, 2, 0, 2, 3]);
+    let prim = doc.primitive(&[(Semantic::Positions, p), (Semantic::Normals, n)], Some(i), None, json::mesh::Mode::Triangles);
+    let mesh = doc.mesh(vec![prim]);
+    let node = doc.node(mesh_node(mesh));
+    doc.scene(vec![node]);
+    let path = scratch("sparse").join("sparse.gltf");
+    doc.write_gltf(&path, Storage::External("sparse.bin"));
+    let scene = load_scene(&path).unwrap();
+    assert_eq!(scene.triangles.len(), 2);
+    assert_near("substituted corner", scene.triangles[0].p[2], Vec3::new(2.0, 3.0, 0.0));
+    assert_near("kept corner", scene.triangles[1].p[2], Vec3::new(0.0, 1.0, 0.0));
+    for t in &scene.triangles {
+        let normals = t.n.expect("the sparse normals are read");
+        for v in normals {
+            assert_near("normal from a view-less sparse accessor", v, Vec3::Z);
+        }
+    }
 }
 
 #[test]

@@ -99,6 +99,49 @@ impl Doc {
         self.accessor(&bytes, data.len(), json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some(mm))
     }
 
+    /// A VEC3 accessor of `base.len()` elements whose elements `indices[k]` are replaced by
+    /// `values[k]` through a sparse block (glTF 2.0 section 3.6.2.3); with `base` None the
+    /// accessor has no buffer view and its other elements are zeros.
+    pub fn vec3_sparse(&mut self, count: usize, base: Option<&[[f32; 3]]>, indices: &[u32], values: &[[f32; 3]]) -> Index<json::Accessor> {
+        let base_view = base.map(|b| self.view(&b.iter().flatten().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>()));
+        let index_view = self.view(&indices.iter().flat_map(|i| i.to_le_bytes()).collect::<Vec<u8>>());
+        let value_view = self.view(&values.iter().flatten().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>());
+        // POSITION's min and max are those of the accessor after substitution.
+        let mut all: Vec<[f32; 3]> = base.map_or(vec![[0.0; 3]; count], <[_]>::to_vec);
+        for (&i, v) in indices.iter().zip(values) {
+            all[i as usize] = *v;
+        }
+        let lo: Vec<f32> = (0..3).map(|k| all.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min)).collect();
+        let hi: Vec<f32> = (0..3).map(|k| all.iter().map(|p| p[k]).fold(f32::NEG_INFINITY, f32::max)).collect();
+        use json::accessor::sparse;
+        self.root.push(json::Accessor {
+            buffer_view: base_view,
+            byte_offset: None,
+            count: USize64(count as u64),
+            component_type: Valid(json::accessor::GenericComponentType(json::accessor::ComponentType::F32)),
+            extensions: None,
+            extras: Default::default(),
+            type_: Valid(json::accessor::Type::Vec3),
+            min: Some(json::Value::from(lo)),
+            max: Some(json::Value::from(hi)),
+            name: None,
+            normalized: false,
+            sparse: Some(sparse::Sparse {
+                count: USize64(indices.len() as u64),
+                indices: sparse::Indices {
+                    buffer_view: index_view,
+                    byte_offset: USize64(0),
+                    component_type: Valid(json::accessor::IndexComponentType(json::accessor::ComponentType::U32)),
+                    extensions: None,
+                    extras: Default::default(),
+                },
+                values: sparse::Values { buffer_view: value_view, byte_offset: USize64(0), extensions: None, extras: Default::default() },
+                extensions: None,
+                extras: Default::default(),
+            }),
+        })
+    }
+
     pub fn vec2(&mut self, data: &[[f32; 2]]) -> Index<json::Accessor> {
         let bytes: Vec<u8> = data.iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
         self.accessor(&bytes, data.len(), json::accessor::ComponentType::F32, json::accessor::Type::Vec2, None)
