@@ -541,3 +541,33 @@ fn unsupported_mode_required_extension_and_missing_bin_are_errors_naming_file_an
     std::fs::remove_file(dir.join("nobin.bin")).unwrap();
     assert_fails_naming(&dir.join("nobin.gltf"), "buffers[0]", "nobin.bin");
 }
+
+/// The README's glTF scene (scenes/gltf/showcase.gltf, tools/make_gltf_showcase.py) loads with
+/// every feature it was made to show, and both integrators see the file's camera: the red
+/// sphere red and the gold sphere gold where the camera puts them.
+#[test]
+fn the_readme_showcase_loads_with_its_features_and_renders_in_both_integrators() {
+    use vkrt::prepare::features::{self, Features};
+    let scene = load_scene(&common::repo_path("scenes/gltf/showcase.gltf")).unwrap();
+    assert!(!scene.stats.default_light, "the file has lights of its own");
+    assert_eq!(scene.lights.len(), 3, "spot, point and directional");
+    let f = Features::of(&scene);
+    for on in [features::TEXTURES, features::METALLIC_ROUGHNESS, features::NORMAL_MAP, features::EMITTERS, features::POINT, features::DIRECTIONAL, features::CONE] {
+        assert!(f.has(on), "{} is off:\n{}", on.name, f.report());
+    }
+    assert_near("camera eye", scene.camera.eye, Vec3::new(0.0, 1.5, 4.2));
+    // Pixel centres on the spheres in a 64 x 48 image of the file's camera (the README's
+    // 640 x 480 view: the red sphere's centre near (365, 285), and the gold sphere's lower half,
+    // which mirrors the lit floor, near (190, 300)).
+    let (red, gold) = ((36, 28), (19, 30));
+    let whitted = whitted_image(&scene, 64, 48);
+    let mut settings = common::path_settings(64, 48, 16);
+    settings.max_depth = Some(4);
+    let path = common::render_path(&scene, &settings).image();
+    for (name, image) in [("Whitted", &whitted), ("path", &path)] {
+        let r = image.get(red.0, red.1);
+        assert!(r[0] > 3.0 * r[1] && r[0] > 3.0 * r[2], "{name}: the red sphere is {r:?}");
+        let g = image.get(gold.0, gold.1);
+        assert!(g[0] > g[2] && g[1] > g[2], "{name}: the gold sphere is {g:?}");
+    }
+}
