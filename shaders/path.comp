@@ -124,10 +124,11 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
 }
 
 void main() {
-    uvec2 pixel = uvec2(push.tile_x, push.tile_y) + gl_GlobalInvocationID.xy;
+    uvec2 slot = uvec2(push.tile_x, push.tile_y) + gl_GlobalInvocationID.xy;
+    uint key;
+    uvec2 pixel = coherent_pixel(slot, frame.width, params.coherence, params.coherence_block_bits, frame.seed, key);
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;
     uint index = pixel.y * frame.width + pixel.x;
-    uint key = sample_key(pixel, frame.width, params.coherence);
     uvec2 samples = uvec2(push.sample_base, push.sample_count);
     // Adaptive: the block's own range; blocks are whole coherence blocks, keyed alike.
     if (params.adaptive != 0u) samples = block_samples[sample_key(pixel, frame.width, params.adaptive)];

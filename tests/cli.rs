@@ -173,8 +173,10 @@ fn corrupt_or_mismatched_checkpoints_are_clear_errors() {
     assert_fails_cleanly(&o, "good.ckpt");
     assert!(stderr(&o).contains("width") || stderr(&o).contains("size"), "{}", stderr(&o));
     // Nor one whose pixels drew their numbers differently (--coherence), and 0 is no block.
-    let o = render(&["--spp", "4", "--coherence", "8"], &ckpt, "8");
+    let o = render(&["--spp", "4", "--coherence", "4"], &ckpt, "8");
     assert_fails_cleanly(&o, "coherence");
+    let o = render(&["--spp", "4", "--coherence-block", "0"], &ckpt, "8");
+    assert_fails_cleanly(&o, "coherence block");
     let o = vkrt(&["render", &scene, "--integrator", "path", "--width", "8", "--height", "8", "--coherence", "0", "-o", out.to_str().unwrap()]);
     assert_fails_cleanly(&o, "coherence");
 }

@@ -48,6 +48,7 @@ fn adaptive_runs_resume_bit_for_bit() {
         let mut s = common::path_settings(32, 32, spp);
         s.adaptive = true;
         s.coherence = 8;
+        s.coherence_block = 0;
         s
     };
     let straight = render(&settings(24), None);

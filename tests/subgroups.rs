@@ -45,7 +45,8 @@ fn renders_and_hits_are_the_same_bytes_with_8_and_16_wide_subgroups() {
     let cases: Vec<(&str, Vec<&str>)> = vec![
         ("whitted.pfm", vec!["render", &lab, "--spp", "2"]),
         ("path.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "8"]),
-        ("adaptive.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "16", "--adaptive", "--coherence", "4"]),
+        ("adaptive.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "16", "--adaptive", "--coherence", "4", "--coherence-block", "0"]),
+        ("uncorrelated.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "8", "--coherence", "1"]),
         ("wide-layout.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "4", "--layout", "wide"]),
     ];
     for (name, args) in &cases {

@@ -32,10 +32,26 @@ import sys
 import time
 
 
+def coherence_flags(coherence):
+    """vkrt's flags for a --coherence value of this tool: "default" (none: vkrt's defaults),
+    "N" (N pixels in a row; 1 is none shared) or "N/B" (N pixels scattered over B x B blocks)."""
+    if coherence == "default":
+        return []
+    n, _, block = coherence.partition("/")
+    return ["--coherence", n, "--coherence-block", block or "0"] if n != "1" else ["--coherence", "1"]
+
+
+def coherence_name(coherence):
+    if coherence == "default":
+        return "defaults"
+    n, _, block = coherence.partition("/")
+    return "coherence 1" if n == "1" else f"coherence {n} " + (f"scattered {block}" if block else "in rows")
+
+
 def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence, adaptive=False):
     cmd = [binary, "render", scene, "-o", out, "--integrator", "path", "--width", str(width),
-           "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed),
-           "--coherence", str(coherence)] + (["--adaptive"] if adaptive else [])
+           "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed)] \
+        + coherence_flags(coherence) + (["--adaptive"] if adaptive else [])
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         sys.exit(f"vkrt failed: {' '.join(cmd)}\n{res.stderr}")
@@ -234,8 +250,9 @@ def main():
     ap.add_argument("--height", type=int, default=512)
     ap.add_argument("--spp", type=int, nargs="+", default=[1, 4, 16, 64])
     ap.add_argument("--samplers", nargs="+", default=["sobol", "independent"])
-    ap.add_argument("--coherence", type=int, nargs="+", default=[1],
-                    help="vkrt --coherence values to run each sampler with (1: every pixel its own numbers)")
+    ap.add_argument("--coherence", nargs="+", default=["default"],
+                    help="coherent sampling to run each sampler with: default (vkrt's defaults), N (N pixels "
+                         "in a row share numbers; 1: none), N/B (N pixels scattered over B x B blocks)")
     ap.add_argument("--sampling", nargs="+", choices=["uniform", "adaptive"], default=["uniform"],
                     help="vkrt sample allocations to run (adaptive: --adaptive, only at 8 spp or more)")
     ap.add_argument("--seed", type=int, default=1)
@@ -277,10 +294,9 @@ def main():
     for r in range(args.rounds):
         for coherence, sampler, sampling in configs:
             adaptive = sampling == "adaptive"
-            name = sampler if coherence == 1 else f"{sampler} coherence {coherence}"
-            name += " adaptive" if adaptive else ""
+            name = f"{sampler} {coherence_name(coherence)}" + (" adaptive" if adaptive else "")
             for spp in [n for n in args.spp if n >= 8 or not adaptive]:
-                img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence}{'-adaptive' if adaptive else ''}-{spp}.exr")
+                img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence.replace('/', 'x')}{'-adaptive' if adaptive else ''}-{spp}.exr")
                 secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
                 rel = vkrt_compare(args.vkrt, img, args.reference)
                 flip = flip_hdr(img, args.reference)

@@ -389,6 +389,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if integrator == IntegratorKind::Whitted && args.max_depth.is_some_and(|d| d > whitted::MAX_DEPTH) {
         bail!("--max-depth {}: the Whitted integrator traces 1 to {} rays per path", args.max_depth.unwrap_or(0), whitted::MAX_DEPTH);
     }
+    if integrator == IntegratorKind::Path {
+        render_path::check_coherence(&args.path, stored)?;
+    }
     let ctx = args.device.context()?;
     check_image_size(&ctx.info, width, height, integrator)?;
 

@@ -10,6 +10,7 @@ use crate::gpu::Context;
 use crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED;
 use crate::integrator::path::checkpoint::{hash_inputs, Checkpoint, Identity, InputHash, ResumeDefaults, RunSettings};
 use crate::integrator::path::shard::{Shard, ShardSet};
+use crate::integrator::path::coherence::{DEFAULT_COHERENCE, DEFAULT_COHERENCE_BLOCK};
 use crate::integrator::path::{self, Accumulation, Hooks, PathProgress, PathSettings, SamplerKind, Stop};
 use crate::integrator::{Image, RenderSettings, RenderStats};
 use crate::prepare::GpuScene;
@@ -60,15 +61,22 @@ pub struct PathArgs {
     /// Path tracer: BSDF sampling only, no light sampling (for checking the estimators).
     #[arg(long)]
     pub no_nee: bool,
-    /// Path tracer: pixels in a row that draw the same sample numbers (coherent path tracing)
-    /// [default: 1]. 8 makes lavapipe's SIMD lanes trace alike: about 2x faster at the same
-    /// expected error per pixel, with the noise in short horizontal streaks.
+    /// Path tracer: pixels that draw the same sample numbers (coherent path tracing)
+    /// [default: 8; 1 with --adaptive]. 8 makes lavapipe's SIMD lanes trace alike: 0.6-0.7x
+    /// the time at the same expected error per pixel. 1: every pixel its own numbers.
     #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
     pub coherence: Option<u32>,
+    /// Path tracer: the side of the square over which each --coherence group's pixels are
+    /// scattered at random [default: 32], so that their correlated errors lie far apart and
+    /// the noise shows no structure; a power of two from 8 to 256. 0: the group is N pixels in
+    /// a row (a little faster, but the noise shows as short horizontal streaks).
+    #[arg(long, value_name = "B")]
+    pub coherence_block: Option<u32>,
     /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels in
     /// a row (8, or whole --coherence blocks) takes samples in proportion to the noise the
     /// pilot showed around it (not in it, which keeps the image unbiased); --spp is then the
-    /// mean over the pixels.
+    /// mean over the pixels. Not with scattered coherence (give --coherence-block 0 with
+    /// --coherence N).
     #[arg(long)]
     pub adaptive: bool,
     /// Path tracer: rewrite the output image (atomically) every SECONDS while rendering, so an
@@ -98,6 +106,7 @@ impl PathArgs {
         add(self.samples_per_batch.is_some(), "--samples-per-batch");
         add(self.no_nee, "--no-nee");
         add(self.coherence.is_some(), "--coherence");
+        add(self.coherence_block.is_some(), "--coherence-block");
         add(self.adaptive, "--adaptive");
         add(self.preview_every.is_some(), "--preview-every");
         v.extend(self.shard.given());
@@ -146,11 +155,31 @@ pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u
         sampler,
         sample_rate: args.sample_rate.or(resumed.map(|r| r.sample_rate)).unwrap_or(DEFAULT_SAMPLE_RATE),
         nee: if args.no_nee { false } else { resumed.map_or(true, |r| r.nee != 0) },
-        coherence: args.coherence.or(resumed.map(|r| r.coherence)).unwrap_or(1),
+        coherence: coherence(args, resumed).0,
+        coherence_block: coherence(args, resumed).1,
         adaptive: args.adaptive,
         stop,
         first_sample: 0,
     }
+}
+
+/// `(coherence, coherence_block)`: the flags, else a resumed run's, else the defaults. Adaptive
+/// runs read each block's neighbours, which must not share its numbers: they default to none
+/// shared (scattered coherence is refused with them).
+fn coherence(args: &PathArgs, resumed: Option<&RunSettings>) -> (u32, u32) {
+    let c = args.coherence.or(resumed.map(|r| r.coherence)).unwrap_or(if args.adaptive { 1 } else { DEFAULT_COHERENCE });
+    let block = args.coherence_block.or(resumed.map(|r| r.coherence_block)).unwrap_or(DEFAULT_COHERENCE_BLOCK);
+    (c, block)
+}
+
+/// Fails, before any work, on a --coherence / --coherence-block pair the path tracer refuses.
+pub fn check_coherence(args: &PathArgs, resumed: Option<&RunSettings>) -> Result<()> {
+    let (c, block) = coherence(args, resumed);
+    path::coherence::check(c, block)?;
+    if args.adaptive && path::coherence::block_bits(c, block) != 0 {
+        bail!("--adaptive reads each block's neighbours, which scattered coherence (--coherence {c} --coherence-block {block}) lets share its sample numbers: add --coherence-block 0 (groups in a row) or --coherence 1");
+    }
+    Ok(())
 }
 
 /// The stop rules: those given, else a resumed run's, else `DEFAULT_PATH_SPP`.
@@ -183,6 +212,7 @@ fn run_settings(run: &PathRun, identity: Identity) -> RunSettings {
         max_depth: s.max_depth.unwrap_or(PATH_DEPTH_UNBOUNDED),
         nee: s.nee as u32,
         coherence: s.coherence,
+        coherence_block: s.coherence_block,
         shards: run.shard.map(ShardSet::of),
         resume: ResumeDefaults {
             output: run.output.clone(),

@@ -81,14 +81,17 @@ gpu_structs! {
         /// 1 / the total selection weight (see `crate::prepare::light_table`), so that an emissive
         /// triangle's area density is pi * mean(Ke) * inv_total_weight.
         pub inv_total_weight: f32,
-        /// Pixels in a row that draw the same sample numbers (1: every pixel its own; see
+        /// Pixels that draw the same sample numbers (1: every pixel its own; see
         /// `crate::integrator::path::PathSettings::coherence`).
         pub coherence: u32,
         /// Adaptive sampling: the pixels per block (`crate::integrator::path::adaptive::BlockGrid`), each block
         /// taking the samples BINDING_BLOCK_SAMPLES gives it; 0: every pixel takes the push
         /// constants' `sample_base .. + sample_count`.
         pub adaptive: u32,
-        pub _pad0: u32,
+        /// log2 of the side of the square blocks over which a coherence group's pixels are
+        /// scattered; 0: groups are `coherence` pixels in a row (see
+        /// `crate::integrator::path::PathSettings::coherence_block`).
+        pub coherence_block_bits: u32,
         pub _pad1: u32,
         pub _pad2: u32,
     }

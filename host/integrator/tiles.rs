@@ -18,20 +18,25 @@ pub fn bind_all(pipeline: &ComputePipeline, bindings: &[(u32, &Buffer)]) -> Resu
     Ok(())
 }
 
-/// The tile side on `ctx`'s device: the settings' if given, else the device's.
-pub fn tile_side(ctx: &Context, settings: &RenderSettings) -> u32 {
-    if settings.tile_size > 0 { settings.tile_size } else { ctx.workgroups.tile }
+/// The tile side on `ctx`'s device: the settings' if given, else the device's; a multiple of
+/// `align`, the pixels a dispatch must cover together (see [`dispatch_samples`]).
+pub fn tile_side(ctx: &Context, settings: &RenderSettings, align: u32) -> u32 {
+    let tile = if settings.tile_size > 0 { settings.tile_size } else { ctx.workgroups.tile };
+    tile.next_multiple_of(align.max(1))
 }
 
 /// How many tiles one sample batch takes.
-pub fn tile_count(ctx: &Context, settings: &RenderSettings) -> u64 {
-    let tile = tile_side(ctx, settings);
+pub fn tile_count(ctx: &Context, settings: &RenderSettings, align: u32) -> u64 {
+    let tile = tile_side(ctx, settings, align);
     (settings.width.div_ceil(tile) * settings.height.div_ceil(tile)) as u64
 }
 
 /// Renders samples `sample_base .. sample_base + sample_count` of every pixel, one submission
 /// per tile; `on_tile()` runs after each. `total_spp` goes to the shader (for stratification).
-/// `scene` is the scene's part of the push constants (`GpuBvh::push`).
+/// `scene` is the scene's part of the push constants (`GpuBvh::push`). Each dispatch covers
+/// whole `align` x `align` squares, past the image's edge if need be: the path tracer's
+/// scattered coherence deals each square's pixels to its invocations in a random order
+/// (`path::coherence`), so an invocation outside the image may hold a pixel inside it.
 #[allow(clippy::too_many_arguments)]
 pub fn dispatch_samples(
     ctx: &Context,
@@ -39,12 +44,14 @@ pub fn dispatch_samples(
     pipeline: &ComputePipeline,
     what: &str,
     settings: &RenderSettings,
+    align: u32,
     sample_base: u32,
     sample_count: u32,
     total_spp: u32,
     on_tile: &mut dyn FnMut(),
 ) -> Result<()> {
-    let tile = tile_side(ctx, settings);
+    let tile = tile_side(ctx, settings, align);
+    let align = align.max(1);
     let wg = ctx.workgroups;
     for ty in 0..settings.height.div_ceil(tile) {
         for tx in 0..settings.width.div_ceil(tile) {
@@ -56,8 +63,8 @@ pub fn dispatch_samples(
                 total_spp,
                 ..*scene
             };
-            let w = tile.min(settings.width - push.tile_x);
-            let h = tile.min(settings.height - push.tile_y);
+            let w = tile.min(settings.width - push.tile_x).next_multiple_of(align);
+            let h = tile.min(settings.height - push.tile_y).next_multiple_of(align);
             let groups = [w.div_ceil(wg.x), h.div_ceil(wg.y), 1];
             ctx.submit(what, |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups))?;
             on_tile();

@@ -54,13 +54,13 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);
     let batches = settings.spp.div_ceil(batch);
-    let total = tile_count(ctx, settings) * batches as u64;
+    let total = tile_count(ctx, settings, 1) * batches as u64;
     let mut done = 0u64;
     // Sample batches outermost, so that a long render refines the whole image evenly.
     for b in 0..batches {
         let sample_base = b * batch;
         let sample_count = batch.min(settings.spp - sample_base);
-        dispatch_samples(ctx, &scene.bvh.push, &pipeline, "whitted tile", settings, sample_base, sample_count, settings.spp, &mut || {
+        dispatch_samples(ctx, &scene.bvh.push, &pipeline, "whitted tile", settings, 1, sample_base, sample_count, settings.spp, &mut || {
             stats.submissions += 1;
             done += 1;
             progress(done, total);

@@ -196,7 +196,7 @@ struct GpuPathParams {
     float inv_total_weight;
     uint coherence;
     uint adaptive;
-    uint _pad0;
+    uint coherence_block_bits;
     uint _pad1;
     uint _pad2;
 };

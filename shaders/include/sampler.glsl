@@ -59,6 +59,38 @@ uint sample_key(uvec2 pixel, uint width, uint coherence) {
     return pixel.y * ((width + c - 1u) / c) + pixel.x / c;
 }
 
+// Scattered coherence (PathSettings::coherence_block = 2^block_bits > 0, coherence > 1): the
+// pixels of each block_size x block_size block are dealt to its invocations in a random order
+// (a 4-round Feistel network on the two halves of the slot's bits, keyed by the block and the
+// seed), and each run of `coherence` slots (one row of lanes of the 8-wide workgroup) draws the
+// same sample numbers. The lanes trace alike (same light, lobe, direction and roulette choices
+// at nearby points), but the pixels whose errors are correlated lie scattered over the block,
+// so the noise shows no streaks (docs/experiments/scattered-coherence.md). The dispatch covers
+// whole blocks (integrator::tiles). Returns the pixel slot `slot` renders; `key` its numbers.
+// CPU twin: integrator::path::coherence::coherent_pixel.
+uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, uint seed, out uint key) {
+    if (block_bits == 0u || coherence <= 1u) {
+        key = sample_key(slot, width, coherence);
+        return slot;
+    }
+    uint side = 1u << block_bits;
+    uint mask = side - 1u;
+    uvec2 block = slot >> block_bits;
+    uint q = ((slot.y & mask) << block_bits) | (slot.x & mask);
+    uint block_seed = hash_pcg((block.y * ((width + mask) >> block_bits) + block.x) ^ hash_pcg(seed ^ 0x5bd1e995u));
+    uint l = q >> block_bits;
+    uint r = q & mask;
+    for (uint round = 0u; round < 4u; round++) {
+        uint f = hash_pcg(r ^ (block_seed + round * 0x9e3779b9u)) & mask;
+        uint next_r = l ^ f;
+        l = r;
+        r = next_r;
+    }
+    uint blocks_per_row = (width + mask) >> block_bits;
+    key = (block.y * blocks_per_row + block.x) * ((side * side) / coherence) + q / coherence;
+    return (block << block_bits) + uvec2(r, l);
+}
+
 Sampler sampler_init(uint kind, uint pixel, uint sample_index, uint seed, uint sample_rate) {
     Sampler s;
     s.kind = kind;

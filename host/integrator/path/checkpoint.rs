@@ -28,7 +28,9 @@ use anyhow::{bail, Context as _, Result};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"VKRTCKPT";
-const VERSION: u32 = 6;
+const VERSION: u32 = 7;
+/// The last format before `coherence_block` was stored (read as 0: coherence groups in a row).
+const VERSION_BEFORE_COHERENCE_BLOCK: u32 = 6;
 /// The last format whose camera had no lens (ten numbers; read as a pinhole).
 const VERSION_BEFORE_LENS: u32 = 5;
 /// Numbers a checkpoint stores for the camera: eye, target, up, vertical field of view in
@@ -105,8 +107,10 @@ pub struct RunSettings {
     pub max_depth: u32,
     /// 1: next-event estimation with MIS; 0: BSDF sampling only.
     pub nee: u32,
-    /// Pixels in a row sharing sample numbers (`PathSettings::coherence`).
+    /// Pixels sharing sample numbers (`PathSettings::coherence`).
     pub coherence: u32,
+    /// The square their pixels are scattered over (`PathSettings::coherence_block`; 0: a row).
+    pub coherence_block: u32,
     /// For a sharded run, the parts the sums hold (`super::shard`); None for a whole run.
     pub shards: Option<ShardSet>,
     /// What the run was asked for, to go on with when resumed.
@@ -129,7 +133,7 @@ impl RunSettings {
     pub fn check_same_render(&self, other: &RunSettings, names: (&str, &str)) -> Result<()> {
         let (a_name, b_name) = names;
         check_same_scene(&self.identity, &other.identity, a_name, b_name)?;
-        let checks: [(&str, String, String); 7] = [
+        let checks: [(&str, String, String); 8] = [
             ("size", format!("{}x{}", self.width, self.height), format!("{}x{}", other.width, other.height)),
             ("integrator", self.integrator.clone(), other.integrator.clone()),
             ("sampler", sampler_name(self.sampler), sampler_name(other.sampler)),
@@ -137,6 +141,7 @@ impl RunSettings {
             ("max depth", depth_name(self.max_depth), depth_name(other.max_depth)),
             ("light sampling", if self.nee != 0 { "on" } else { "off (--no-nee)" }.into(), if other.nee != 0 { "on" } else { "off (--no-nee)" }.into()),
             ("coherence", self.coherence.to_string(), other.coherence.to_string()),
+            ("coherence block", self.coherence_block.to_string(), other.coherence_block.to_string()),
         ];
         for (what, a, b) in checks {
             if a != b {
@@ -332,7 +337,7 @@ impl Checkpoint {
             out.extend_from_slice(&seed.to_le_bytes());
         }
         put_str(&mut out, &s.integrator);
-        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence] {
+        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block] {
             out.extend_from_slice(&v.to_le_bytes());
         }
         let none = ShardSet { count: 0, total_spp: 0, indices: Vec::new() };
@@ -405,6 +410,8 @@ impl Checkpoint {
         let nee = r.u32("nee")?;
         // Version 1 predates the setting: its runs gave every pixel its own numbers.
         let coherence = if version == VERSION_BEFORE_COHERENCE { 1 } else { r.u32("coherence")? };
+        // Before format 7 coherence groups were rows.
+        let coherence_block = if version > VERSION_BEFORE_COHERENCE_BLOCK { r.u32("coherence_block")? } else { 0 };
         let shards = if version > VERSION_BEFORE_FIXED { r.shards()? } else { None };
         let samples = r.u64("samples")?;
         let even_samples = r.u64("even_samples")?;
@@ -480,6 +487,7 @@ impl Checkpoint {
                 max_depth,
                 nee,
                 coherence,
+                coherence_block,
                 shards,
                 resume,
             },
@@ -572,7 +580,8 @@ mod tests {
             sample_rate: 4,
             max_depth: u32::MAX,
             nee: 1,
-            coherence: 1,
+            coherence: 8,
+            coherence_block: 32,
             shards: None,
             resume: ResumeDefaults {
                 output: "/x/a.exr".into(),
@@ -636,12 +645,30 @@ mod tests {
         out
     }
 
+    /// Format-6 files (before `coherence_block`) read as coherence groups in a row, the only
+    /// kind there was.
+    #[test]
+    fn format_6_reads_as_coherence_in_rows() {
+        let c = sample(5);
+        let bytes = c.to_bytes();
+        let s = &c.settings;
+        let words: Vec<u8> = [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let at = bytes.windows(words.len()).position(|w| w == words.as_slice()).expect("the settings words") + words.len() - 4;
+        let mut old = [&bytes[..at], &bytes[at + 4..]].concat();
+        old[8..12].copy_from_slice(&VERSION_BEFORE_COHERENCE_BLOCK.to_le_bytes());
+        let read = Checkpoint::from_bytes(&old).unwrap();
+        assert_eq!(read.settings.coherence, 8);
+        assert_eq!(read.settings.coherence_block, 0);
+        assert_eq!(read.accum, c.accum);
+    }
+
     /// Format-3 files (the scene file's hash alone, float sums) and version-1 files (before
     /// `coherence` was stored: read as coherence 1) still read, their sums in fixed point.
     #[test]
     fn reads_older_formats() {
         let mut c = legacy(3);
         c.settings.coherence = 8;
+        c.settings.coherence_block = 0;
         let sum = vec![[3.0f32, 0.5, 0.0, 1.0]; 6];
         let even = vec![[1.0f32, 0.25, 0.0, 0.0]; 6];
         let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_INPUTS, &sum, &even)).unwrap();

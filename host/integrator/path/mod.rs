@@ -6,6 +6,7 @@
 pub mod accumulation;
 pub mod adaptive;
 pub mod checkpoint;
+pub mod coherence;
 pub mod params;
 pub mod progress;
 pub mod render;
@@ -70,18 +71,25 @@ pub struct PathSettings {
     pub sample_rate: u32,
     /// Next-event estimation with MIS (default); false: BSDF sampling only, for tests.
     pub nee: bool,
-    /// Pixels in a row that draw the same sample numbers (default 1: each pixel its own).
-    /// Coherent path tracing (Sadeghi, Chen & Jensen 2009, "Coherent path tracing", JGT
-    /// 14(2)): with 8, lavapipe's eight lanes (one row of a workgroup) take the same bounce,
-    /// light and roulette decisions at neighbouring points, so their rays stay coherent and
-    /// their paths end together. Each pixel's estimate is distributed as before, so the
-    /// expected error per pixel is the same; the errors of a block's pixels are correlated,
-    /// which shows as short horizontal streaks in the noise (docs/experiments/
-    /// coherent-sampling.md).
+    /// Pixels that draw the same sample numbers (default 8, [`coherence::DEFAULT_COHERENCE`];
+    /// 1: each pixel its own). Coherent path tracing (Sadeghi, Chen & Jensen 2009, "Coherent
+    /// path tracing", JGT 14(2)): lavapipe's eight lanes (one row of a workgroup) take the same
+    /// bounce, light and roulette decisions, so their rays stay coherent and their paths end
+    /// together: 0.6-0.7x the time per sample. Each pixel's estimate is distributed as
+    /// before, so the expected error per pixel is the same; the errors of a group's pixels are
+    /// correlated ([`coherence`] says where that shows).
     pub coherence: u32,
+    /// The side of the square block over which each coherence group's pixels are scattered
+    /// (default 32, [`coherence::DEFAULT_COHERENCE_BLOCK`]): correlated errors far apart, so
+    /// the noise shows no structure. 0: the group is `coherence` pixels in a row, whose
+    /// correlated errors show as short horizontal streaks (docs/experiments/
+    /// coherent-sampling.md), about 0.85x the time of a 32 block.
+    pub coherence_block: u32,
     /// Adaptive sampling ([`adaptive`]): after a uniform pilot of `PILOT_SPP`, each
     /// block (a workgroup row, or whole coherence blocks) takes samples in proportion to the
     /// noise the pilot showed around it. Unbiased; `stop.spp` is then the mean over the pixels.
+    /// Not with scattered coherence: a block's noise estimate reads its neighbours, and those
+    /// must not share sample numbers with it (coherence 1, or `coherence_block` 0).
     pub adaptive: bool,
     pub stop: Stop,
     /// The sample index this run starts at (0; a shard's first index, `super::shard`): its
@@ -97,7 +105,8 @@ impl Default for PathSettings {
             sampler: SamplerKind::Sobol,
             sample_rate: 4,
             nee: true,
-            coherence: 1,
+            coherence: coherence::DEFAULT_COHERENCE,
+            coherence_block: coherence::DEFAULT_COHERENCE_BLOCK,
             adaptive: false,
             stop: Stop { spp: Some(16), ..Stop::default() },
             first_sample: 0,

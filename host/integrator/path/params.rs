@@ -47,7 +47,7 @@ pub fn path_params(scene: &GpuScene, settings: &PathSettings) -> Result<GpuPathP
         inv_total_weight: scene.inv_total_weight,
         coherence: settings.coherence,
         adaptive: if settings.adaptive { BlockGrid::new(settings.image.width, settings.image.height, settings.coherence).block } else { 0 },
-        _pad0: 0,
+        coherence_block_bits: super::coherence::block_bits(settings.coherence, settings.coherence_block),
         _pad1: 0,
         _pad2: 0,
     })
