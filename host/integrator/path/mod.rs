@@ -83,7 +83,7 @@ pub struct PathSettings {
     /// (default 32, [`coherence::DEFAULT_COHERENCE_BLOCK`]): correlated errors far apart, so
     /// the noise shows no structure. 0: the group is `coherence` pixels in a row, whose
     /// correlated errors show as short horizontal streaks (docs/experiments/
-    /// coherent-sampling.md), about 0.85x the time of a 32 block.
+    /// coherent-sampling.md), about 0.75x the time of a 32 block.
     pub coherence_block: u32,
     /// Adaptive sampling ([`adaptive`]): after a uniform pilot of `PILOT_SPP`, each
     /// block (a workgroup row, or whole coherence blocks) takes samples in proportion to the
