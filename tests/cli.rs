@@ -180,3 +180,24 @@ fn corrupt_or_mismatched_checkpoints_are_clear_errors() {
     let o = vkrt(&["render", &scene, "--integrator", "path", "--width", "8", "--height", "8", "--coherence", "0", "-o", out.to_str().unwrap()]);
     assert_fails_cleanly(&o, "coherence");
 }
+
+/// Coherence flags the path tracer refuses fail before any work, naming the flag: a block that
+/// is not a power of two, and --adaptive with scattered groups (its noise estimate reads a
+/// block's neighbours, which must not share the block's numbers); rows with --adaptive render.
+#[test]
+fn bad_coherence_flags_are_refused_before_any_work() {
+    let dir = common::scratch_dir("cli-coherence");
+    let scene = common::repo_path("scenes/cornell-measured/cornell.yaml").display().to_string();
+    let out = dir.join("out.exr");
+    let _ = std::fs::remove_file(&out);
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", scene.as_str(), "--integrator", "path", "--width", "16", "--height", "16", "--spp", "8", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        vkrt(&args)
+    };
+    assert_fails_cleanly(&render(&["--coherence-block", "24"]), "--coherence-block 24");
+    assert_fails_cleanly(&render(&["--adaptive", "--coherence", "8"]), "--coherence-block 0");
+    assert!(!out.exists(), "a refused render wrote its output");
+    let o = render(&["--adaptive", "--coherence", "8", "--coherence-block", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -13,7 +13,7 @@ use vkrt::integrator::path::Accumulation;
 use vkrt::integrator::{whitted, RenderSettings};
 use vkrt::output::compare::compare;
 use vkrt::output::read_image;
-use vkrt::prepare::{EnvLight, GpuScene, PrepareOptions, PreparedScene};
+use vkrt::prepare::{EnvLight, GpuScene, PrepareOptions};
 use vkrt::scene::envmap::EnvMap;
 use vkrt::scene::{Camera, Scene, Sky};
 
@@ -33,22 +33,15 @@ fn scene(rotation_deg: f32) -> Scene {
 }
 
 fn upload<'a>(ctx: &'a vkrt::gpu::Context, scene: &Scene, env: &EnvLight) -> GpuScene<'a> {
-    let prepared = PreparedScene::new(scene, &PrepareOptions::default()).unwrap();
-    let mut gpu = GpuScene::upload(ctx, &prepared).unwrap();
-    let a = prepared.arrays();
-    gpu.set_environment(ctx, env, a.picks, a.total_weight, scene.stats.default_light).unwrap();
-    gpu
+    common::upload_lit(ctx, scene, Some(env), &PrepareOptions::default())
 }
 
 fn render(scene: &Scene, env: &EnvLight, width: u32, spp: u64, nee: bool) -> Accumulation {
     let ctx = common::gpu_context();
-    let gpu = upload(&ctx, scene, env);
     let mut settings = common::path_settings(width, width, spp);
     settings.nee = nee;
-    let (acc, stats) = vkrt::integrator::path::render(&ctx, &gpu, &settings, None, &mut Default::default()).unwrap();
-    assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples");
-    common::assert_no_validation_messages(&ctx);
-    acc
+    let gpu = upload(&ctx, scene, env);
+    common::render_path_on(&ctx, &gpu, &settings)
 }
 
 #[test]

@@ -7,7 +7,7 @@ mod common;
 
 use glam::{Vec2, Vec3};
 use vkrt::bvh::BuilderKind;
-use vkrt::prepare::{EnvLight, GpuScene, PrepareOptions, PreparedScene};
+use vkrt::prepare::{EnvLight, PrepareOptions};
 use vkrt::integrator::path::{PathSettings, Stop};
 use vkrt::integrator::{whitted, Image, RenderSettings};
 use vkrt::accel::LayoutKind;
@@ -43,20 +43,9 @@ fn path_image(scene: &Scene, size: (u32, u32), spp: u64, max_depth: Option<u32>,
     path_image_lit(scene, None, size, spp, max_depth, all_features)
 }
 
-/// `scene` on the device, with `env` set as its environment map when given (as `--envmap` does).
-fn upload_lit<'a>(ctx: &'a vkrt::gpu::Context, scene: &Scene, env: Option<&EnvLight>, options: &PrepareOptions) -> GpuScene<'a> {
-    let prepared = PreparedScene::new(scene, options).unwrap();
-    let mut gpu = GpuScene::upload(ctx, &prepared).unwrap();
-    if let Some(env) = env {
-        let a = prepared.arrays();
-        gpu.set_environment(ctx, env, a.picks, a.total_weight, scene.stats.default_light).unwrap();
-    }
-    gpu
-}
-
 fn whitted_image_lit(scene: &Scene, env: Option<&EnvLight>, layout: LayoutKind, size: (u32, u32), all_features: bool) -> Image {
     let ctx = common::gpu_context();
-    let gpu = upload_lit(&ctx, scene, env, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() });
+    let gpu = common::upload_lit(&ctx, scene, env, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() });
     let settings =
         RenderSettings { width: size.0, height: size.1, spp: 1, max_depth: 3, all_features, ..RenderSettings::default() };
     let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
@@ -73,11 +62,8 @@ fn path_image_lit(scene: &Scene, env: Option<&EnvLight>, size: (u32, u32), spp: 
         ..PathSettings::default()
     };
     let ctx = common::gpu_context();
-    let gpu = upload_lit(&ctx, scene, env, &PrepareOptions::default());
-    let (acc, stats) = vkrt::integrator::path::render(&ctx, &gpu, &settings, None, &mut Default::default()).unwrap();
-    assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples");
-    common::assert_no_validation_messages(&ctx);
-    acc.image()
+    let gpu = common::upload_lit(&ctx, scene, env, &PrepareOptions::default());
+    common::render_path_on(&ctx, &gpu, &settings).image()
 }
 
 fn srgb(b: u8) -> f32 {

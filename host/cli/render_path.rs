@@ -149,14 +149,15 @@ pub struct PathRun<'a> {
 pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u32>, resumed: Option<&RunSettings>, stop: Stop) -> PathSettings {
     let sampler = args.sampler.or_else(|| resumed.and_then(|r| SamplerKind::from_gpu_value(r.sampler))).unwrap_or(SamplerKind::Sobol);
     let stored_depth = resumed.map(|r| if r.max_depth == PATH_DEPTH_UNBOUNDED { None } else { Some(r.max_depth) });
+    let (coherence, coherence_block) = coherence(args, resumed);
     PathSettings {
         image,
         max_depth: max_depth.or(stored_depth.flatten()),
         sampler,
         sample_rate: args.sample_rate.or(resumed.map(|r| r.sample_rate)).unwrap_or(DEFAULT_SAMPLE_RATE),
         nee: if args.no_nee { false } else { resumed.map_or(true, |r| r.nee != 0) },
-        coherence: coherence(args, resumed).0,
-        coherence_block: coherence(args, resumed).1,
+        coherence,
+        coherence_block,
         adaptive: args.adaptive,
         stop,
         first_sample: 0,
@@ -172,14 +173,11 @@ fn coherence(args: &PathArgs, resumed: Option<&RunSettings>) -> (u32, u32) {
     (c, block)
 }
 
-/// Fails, before any work, on a --coherence / --coherence-block pair the path tracer refuses.
+/// Fails, before any work, on a --coherence / --coherence-block pair the path tracer refuses
+/// (the render's own check, `path::coherence::check`, run early).
 pub fn check_coherence(args: &PathArgs, resumed: Option<&RunSettings>) -> Result<()> {
     let (c, block) = coherence(args, resumed);
-    path::coherence::check(c, block)?;
-    if args.adaptive && path::coherence::block_bits(c, block) != 0 {
-        bail!("--adaptive reads each block's neighbours, which scattered coherence (--coherence {c} --coherence-block {block}) lets share its sample numbers: add --coherence-block 0 (groups in a row) or --coherence 1");
-    }
-    Ok(())
+    path::coherence::check(c, block, args.adaptive)
 }
 
 /// The stop rules: those given, else a resumed run's, else `DEFAULT_PATH_SPP`.

@@ -76,8 +76,9 @@ uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, ui
     uint side = 1u << block_bits;
     uint mask = side - 1u;
     uvec2 block = slot >> block_bits;
+    uint block_index = block.y * ((width + mask) >> block_bits) + block.x;
     uint q = ((slot.y & mask) << block_bits) | (slot.x & mask);
-    uint block_seed = hash_pcg((block.y * ((width + mask) >> block_bits) + block.x) ^ hash_pcg(seed ^ 0x5bd1e995u));
+    uint block_seed = hash_pcg(block_index ^ hash_pcg(seed ^ 0x5bd1e995u));
     uint l = q >> block_bits;
     uint r = q & mask;
     for (uint round = 0u; round < 4u; round++) {
@@ -86,8 +87,7 @@ uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, ui
         l = r;
         r = next_r;
     }
-    uint blocks_per_row = (width + mask) >> block_bits;
-    key = (block.y * blocks_per_row + block.x) * ((side * side) / coherence) + q / coherence;
+    key = block_index * ((side * side) / coherence) + q / coherence;
     return (block << block_bits) + uvec2(r, l);
 }
 

@@ -86,33 +86,24 @@ impl Doc {
 
     pub fn vec3(&mut self, data: &[[f32; 3]]) -> Index<json::Accessor> {
         let bytes: Vec<u8> = data.iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for p in data {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
         // POSITION needs min and max (glTF 2.0 section 3.7.2.1); harmless elsewhere.
-        let mm = (json::Value::from(lo.to_vec()), json::Value::from(hi.to_vec()));
-        self.accessor(&bytes, data.len(), json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some(mm))
+        self.accessor(&bytes, data.len(), json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some(bounds(data)))
     }
 
     /// A VEC3 accessor of `base.len()` elements whose elements `indices[k]` are replaced by
     /// `values[k]` through a sparse block (glTF 2.0 section 3.6.2.3); with `base` None the
     /// accessor has no buffer view and its other elements are zeros.
     pub fn vec3_sparse(&mut self, count: usize, base: Option<&[[f32; 3]]>, indices: &[u32], values: &[[f32; 3]]) -> Index<json::Accessor> {
-        let base_view = base.map(|b| self.view(&b.iter().flatten().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>()));
+        let floats = |d: &[[f32; 3]]| d.iter().flatten().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>();
+        let base_view = base.map(|b| self.view(&floats(b)));
         let index_view = self.view(&indices.iter().flat_map(|i| i.to_le_bytes()).collect::<Vec<u8>>());
-        let value_view = self.view(&values.iter().flatten().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>());
+        let value_view = self.view(&floats(values));
         // POSITION's min and max are those of the accessor after substitution.
         let mut all: Vec<[f32; 3]> = base.map_or(vec![[0.0; 3]; count], <[_]>::to_vec);
         for (&i, v) in indices.iter().zip(values) {
             all[i as usize] = *v;
         }
-        let lo: Vec<f32> = (0..3).map(|k| all.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min)).collect();
-        let hi: Vec<f32> = (0..3).map(|k| all.iter().map(|p| p[k]).fold(f32::NEG_INFINITY, f32::max)).collect();
+        let (min, max) = bounds(&all);
         use json::accessor::sparse;
         self.root.push(json::Accessor {
             buffer_view: base_view,
@@ -122,8 +113,8 @@ impl Doc {
             extensions: None,
             extras: Default::default(),
             type_: Valid(json::accessor::Type::Vec3),
-            min: Some(json::Value::from(lo)),
-            max: Some(json::Value::from(hi)),
+            min: Some(min),
+            max: Some(max),
             name: None,
             normalized: false,
             sparse: Some(sparse::Sparse {
@@ -277,6 +268,19 @@ impl Doc {
         out.extend_from_slice(&bin);
         std::fs::write(path, out).unwrap();
     }
+}
+
+/// The per-component minimum and maximum of `data`, as an accessor's `min` and `max`.
+fn bounds(data: &[[f32; 3]]) -> (json::Value, json::Value) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in data {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (json::Value::from(lo.to_vec()), json::Value::from(hi.to_vec()))
 }
 
 fn buffer(len: usize, uri: Option<String>) -> json::Buffer {

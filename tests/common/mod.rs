@@ -102,10 +102,27 @@ pub fn render_path(
 ) -> vkrt::integrator::path::Accumulation {
     let ctx = gpu_context();
     let gpu = upload(&ctx, scene);
-    let (acc, stats) = vkrt::integrator::path::render(&ctx, &gpu, settings, None, &mut Default::default()).unwrap();
+    render_path_on(&ctx, &gpu, settings)
+}
+
+/// The same for a scene already on the device (one with an environment map, say).
+pub fn render_path_on(ctx: &Context, gpu: &GpuScene, settings: &vkrt::integrator::path::PathSettings) -> vkrt::integrator::path::Accumulation {
+    let (acc, stats) = vkrt::integrator::path::render(ctx, gpu, settings, None, &mut Default::default()).unwrap();
     assert_eq!(stats.nonfinite_samples, 0, "NaN/Inf samples");
-    assert_no_validation_messages(&ctx);
+    assert_no_validation_messages(ctx);
     acc
+}
+
+/// `scene` on the device with `options`, lit by `env` as its environment map when given (as
+/// `--envmap` does: the map replaces a bare model's default light).
+pub fn upload_lit<'a>(ctx: &'a Context, scene: &vkrt::scene::Scene, env: Option<&vkrt::prepare::EnvLight>, options: &PrepareOptions) -> GpuScene<'a> {
+    let prepared = PreparedScene::new(scene, options).expect("prepare the scene");
+    let mut gpu = GpuScene::upload(ctx, &prepared).expect("upload the scene");
+    if let Some(env) = env {
+        let a = prepared.arrays();
+        gpu.set_environment(ctx, env, a.picks, a.total_weight, scene.stats.default_light).expect("set the environment map");
+    }
+    gpu
 }
 
 /// Path tracer settings for a `width` x `height` render of `spp` samples.

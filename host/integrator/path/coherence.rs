@@ -29,13 +29,21 @@ pub const MAX_COHERENCE_BLOCK: u32 = 256;
 
 /// Fails, naming the flag, unless `coherence` and `block` are a valid pair: `block` 0 (rows)
 /// or a power of two from 8 to [`MAX_COHERENCE_BLOCK`]; with a block, `coherence` a power of
-/// two that fits in one (so that groups are whole runs of slots).
-pub fn check(coherence: u32, block: u32) -> Result<()> {
+/// two that fits in one (so that groups are whole runs of slots). An `adaptive` run takes no
+/// scattered groups: its noise estimate reads a block's neighbours, which must not share the
+/// block's numbers (`super::adaptive`).
+pub fn check(coherence: u32, block: u32, adaptive: bool) -> Result<()> {
     if coherence == 0 {
         bail!("--coherence must be at least 1");
     }
     if block == 0 {
         return Ok(());
+    }
+    if adaptive && block_bits(coherence, block) != 0 {
+        bail!(
+            "--adaptive reads each block's neighbours, which scattered coherence (--coherence {coherence} --coherence-block {block}) \
+             lets share its sample numbers: add --coherence-block 0 (groups in a row) or --coherence 1"
+        );
     }
     if !block.is_power_of_two() || !(8..=MAX_COHERENCE_BLOCK).contains(&block) {
         bail!("--coherence-block {block}: must be 0 (groups in a row) or a power of two from 8 to {MAX_COHERENCE_BLOCK}");
@@ -82,15 +90,16 @@ pub fn coherent_pixel(slot: (u32, u32), width: u32, coherence: u32, block: u32, 
     let mask = side - 1;
     let blocks_per_row = (width + mask) >> bits;
     let (bx, by) = (slot.0 >> bits, slot.1 >> bits);
+    let block_index = by * blocks_per_row + bx;
     let q = ((slot.1 & mask) << bits) | (slot.0 & mask);
-    let block_seed = hash_pcg((by * blocks_per_row + bx) ^ hash_pcg(seed ^ 0x5bd1e995));
+    let block_seed = hash_pcg(block_index ^ hash_pcg(seed ^ 0x5bd1e995));
     // A 4-round Feistel network on the slot's two halves: a bijection of the block's slots.
     let (mut l, mut r) = (q >> bits, q & mask);
     for round in 0..4u32 {
         let f = hash_pcg(r ^ block_seed.wrapping_add(round.wrapping_mul(0x9e3779b9))) & mask;
         (l, r) = (r, l ^ f);
     }
-    let key = (by * blocks_per_row + bx) * (side * side / coherence) + q / coherence;
+    let key = block_index * (side * side / coherence) + q / coherence;
     (((bx << bits) + r, (by << bits) + l), key)
 }
 
@@ -127,9 +136,11 @@ mod tests {
 
     #[test]
     fn bad_pairs_are_refused() {
-        assert!(check(8, 32).is_ok() && check(1, 0).is_ok() && check(6, 0).is_ok());
-        assert!(check(0, 0).is_err());
-        assert!(check(8, 24).is_err() && check(8, 4).is_err() && check(8, 512).is_err());
-        assert!(check(6, 32).is_err());
+        assert!(check(8, 32, false).is_ok() && check(1, 0, false).is_ok() && check(6, 0, false).is_ok());
+        assert!(check(0, 0, false).is_err());
+        assert!(check(8, 24, false).is_err() && check(8, 4, false).is_err() && check(8, 512, false).is_err());
+        assert!(check(6, 32, false).is_err());
+        assert!(check(8, 32, true).is_err(), "adaptive with scattered groups");
+        assert!(check(8, 0, true).is_ok() && check(1, 32, true).is_ok());
     }
 }

@@ -176,14 +176,7 @@ pub fn render(
     if settings.adaptive && stop.spp.is_some_and(|n| n < PILOT_SPP as u64) {
         bail!("adaptive sampling needs at least {PILOT_SPP} spp (its uniform pilot); got {}", stop.spp.unwrap_or(0));
     }
-    super::coherence::check(settings.coherence, settings.coherence_block)?;
-    if settings.adaptive && super::coherence::block_bits(settings.coherence, settings.coherence_block) != 0 {
-        bail!(
-            "adaptive sampling reads each block's neighbours, which scattered coherence (--coherence {} --coherence-block {}) lets share its sample numbers: use --coherence 1, or --coherence-block 0 for groups in a row",
-            settings.coherence,
-            settings.coherence_block
-        );
-    }
+    super::coherence::check(settings.coherence, settings.coherence_block, settings.adaptive)?;
     let align = super::coherence::dispatch_alignment(settings.coherence, settings.coherence_block);
     let start = Instant::now();
     let grid = BlockGrid::new(img.width, img.height, settings.coherence);
