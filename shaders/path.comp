@@ -17,6 +17,7 @@
 #include "rng.glsl"
 #include "sampler.glsl"
 #include "camera.glsl"
+#include "tile_region.glsl"
 #include "offset.glsl"
 #include "surface.glsl"
 #include "sampling.glsl"
@@ -124,7 +125,7 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
 }
 
 void main() {
-    uvec2 slot = uvec2(push.tile_x, push.tile_y) + gl_GlobalInvocationID.xy;
+    uvec2 slot = tile_slot();
     uint key;
     uvec2 pixel = coherent_pixel(slot, frame.width, params.coherence, params.coherence_block_bits, frame.seed, key);
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;

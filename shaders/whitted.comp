@@ -14,6 +14,7 @@
 #include "traverse.glsl"
 #include "rng.glsl"
 #include "camera.glsl"
+#include "tile_region.glsl"
 #include "offset.glsl"
 #include "surface.glsl"
 #include "math.glsl"
@@ -188,7 +189,7 @@ vec3 whitted(vec3 origin, vec3 dir) {
 }
 
 void main() {
-    uvec2 pixel = uvec2(push.tile_x, push.tile_y) + gl_GlobalInvocationID.xy;
+    uvec2 pixel = tile_slot();
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;
     uint index = pixel.y * frame.width + pixel.x;
     vec3 sum = vec3(0.0);

@@ -59,9 +59,17 @@ gpu_structs! {
         pub node_count: u32,
         /// The compact layout's grid (`crate::accel::compact::QuantGrid`); zero for the other layouts.
         pub grid_origin: [f32; 3],
-        pub _pad0: u32,
+        /// Image kernels: the stride that deals the dispatch's workgroups to the tile's regions
+        /// (`crate::integrator::tiles::group_stride`); 0 or 1 is in order.
+        pub group_stride: u32,
         pub grid_scale: [f32; 3],
+        /// Image kernels: the workgroup's shape in invocations (the shaders' `gl_WorkGroupSize`
+        /// is not specialised on Mesa 25.0 lavapipe: it reads 1 x 1, see tile_region.glsl).
+        pub group_width: u32,
+        pub group_height: u32,
         pub _pad1: u32,
+        pub _pad2: u32,
+        pub _pad3: u32,
     }
 
     /// The path tracer's per-render settings (uniform buffer, std140).
@@ -123,7 +131,7 @@ gpu_structs! {
 }
 
 const _: () = assert!(std::mem::size_of::<GpuFrame>() == 144);
-const _: () = assert!(std::mem::size_of::<GpuPush>() == 64);
+const _: () = assert!(std::mem::size_of::<GpuPush>() == 80);
 const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 48);
 const _: () = assert!(std::mem::size_of::<GpuRay>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuHit>() == 32);

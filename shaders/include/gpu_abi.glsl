@@ -156,9 +156,13 @@ struct GpuPush {
     uint any_hit;
     uint node_count;
     vec3 grid_origin;
-    uint _pad0;
+    uint group_stride;
     vec3 grid_scale;
+    uint group_width;
+    uint group_height;
     uint _pad1;
+    uint _pad2;
+    uint _pad3;
 };
 
 struct GpuRay {
