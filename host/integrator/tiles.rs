@@ -37,11 +37,13 @@ pub fn tile_count(ctx: &Context, settings: &RenderSettings, align: u32) -> u64 {
 /// contiguous run of a dispatch's workgroups (Mesa's `lp_cs_tpool_queue_task`: groups /
 /// threads each, in order), so with regions in order the thread whose run holds the costlier
 /// part of a tile (a lit floor, against an empty sky) finishes last while the others wait:
-/// both cores of the CI machine were 12 % idle in a path-traced Cornell box. A stride near
-/// groups / phi (a golden-ratio Weyl sequence, the most even of such spreads) gives every run
-/// regions from all over the tile. Coprime with `groups`, so every region is rendered once.
+/// both cores of the 2-core development machine were 12 % idle in a path-traced Cornell box
+/// (docs/experiments/dispatch-split.md). A stride near groups / phi (a golden-ratio Weyl
+/// sequence, the most even of such spreads) gives every run regions from all over the tile.
+/// Coprime with `groups`, so every region is rendered once. The shader multiplies in 32 bits,
+/// so dispatches of more than [`MAX_DEALT_GROUPS`] keep the plain order (1).
 pub fn group_stride(groups: u32) -> u32 {
-    if groups <= 2 {
+    if groups <= 2 || groups > MAX_DEALT_GROUPS {
         return 1;
     }
     const INV_PHI: f64 = 0.618_033_988_749_895;
@@ -52,6 +54,10 @@ pub fn group_stride(groups: u32) -> u32 {
     }
     stride
 }
+
+/// The most workgroups a dispatch deals at a stride: index * stride < groups^2 fits in 32 bits.
+/// vkrt's tiles are far below it (a 512² tile in workgroups of 64 is 4096).
+pub const MAX_DEALT_GROUPS: u32 = 1 << 16;
 
 fn gcd(mut a: u32, mut b: u32) -> u32 {
     while b != 0 {
@@ -124,6 +130,11 @@ mod tests {
                 seen[r] = true;
             }
         }
+        // The shader's 32-bit product: (groups - 1) * stride must fit wherever a stride is used.
+        for groups in [MAX_DEALT_GROUPS - 1, MAX_DEALT_GROUPS] {
+            assert!((groups as u64 - 1) * group_stride(groups) as u64 <= u32::MAX as u64);
+        }
+        assert_eq!(group_stride(MAX_DEALT_GROUPS + 1), 1);
     }
 
     /// What the stride is for: each thread's contiguous run of workgroups (lavapipe splits a

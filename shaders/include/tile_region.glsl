@@ -12,7 +12,7 @@ uvec2 tile_slot() {
     uvec2 groups = gl_NumWorkGroups.xy;
     uint count = groups.x * groups.y;
     uint index = gl_WorkGroupID.y * groups.x + gl_WorkGroupID.x;
-    // count <= 4096 (a 512-pixel tile in workgroups of at least 64), so the product fits.
+    // The host gives a stride only for count <= 2^16 (MAX_DEALT_GROUPS), so the product fits.
     uint region = (index * max(push.group_stride, 1u)) % count;
     uvec2 group = uvec2(region % groups.x, region / groups.x);
     // The shape from the host: Mesa 25.0 lavapipe leaves gl_WorkGroupSize at the unspecialised
