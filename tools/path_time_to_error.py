@@ -9,7 +9,8 @@ renderer relMSE falls as 1/time, so the product is constant and smaller is faste
 
 Times are render times: vkrt's own report ("in X s": BVH build and upload excluded, read-back
 included) and Mitsuba's mi.render() after one warm-up render (its JIT compiles kernels once);
-with --rounds N every row runs N times, interleaved, and keeps its shortest time.
+with --rounds N every row runs N times, interleaved, and keeps its shortest time. Each sample
+count runs every vkrt configuration and then Mitsuba back to back.
 
 Usage (from the repository root, after `cargo build --release`):
   tools/path_time_to_error.py --scene scenes/cornell-measured/cornell.yaml \
@@ -371,11 +372,15 @@ def main():
     if flip_hdr(args.reference, args.reference) is None:
         print("flip-evaluator or mitsuba not installed (pip install flip-evaluator mitsuba): no FLIP column", file=sys.stderr)
     best = {}  # (renderer, spp) -> [seconds, relMSE, FLIP], in first-run order
+    # Every spp of a round runs each vkrt configuration and then Mitsuba, one after the other,
+    # so that a swing of the machine's speed (minutes long here) falls on both sides alike.
     for r in range(args.rounds):
-        for coherence, sampler, sampling in configs:
-            adaptive = sampling == "adaptive"
-            name = f"{sampler} {coherence_name(coherence)}" + (" adaptive" if adaptive else "")
-            for spp in [n for n in args.spp if n >= 8 or not adaptive]:
+        for spp in args.spp:
+            for coherence, sampler, sampling in configs:
+                adaptive = sampling == "adaptive"
+                if adaptive and spp < 8:
+                    continue
+                name = f"{sampler} {coherence_name(coherence)}" + (" adaptive" if adaptive else "")
                 img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence.replace('/', 'x')}{'-adaptive' if adaptive else ''}-{spp}.exr")
                 secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
                 rel = vkrt_compare(args.vkrt, img, args.reference)
@@ -383,14 +388,18 @@ def main():
                 key = (f"vkrt {name} (lavapipe)", spp)
                 best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
                 print(f"round {r + 1}: vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
-        for spp in args.spp if mitsuba else []:
-            img = os.path.join(args.out, f"mitsuba-{spp}.exr")
-            secs, rel = mitsuba.render(spp, img)
-            flip = flip_hdr(img, args.reference)
-            key = ("mitsuba3 llvm_ad_rgb", spp)
-            best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
-            print(f"round {r + 1}: mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
-    rows = [(name, spp, secs, rel, flip) for (name, spp), (secs, rel, flip) in best.items()]
+            if mitsuba:
+                img = os.path.join(args.out, f"mitsuba-{spp}.exr")
+                secs, rel = mitsuba.render(spp, img)
+                flip = flip_hdr(img, args.reference)
+                key = ("mitsuba3 llvm_ad_rgb", spp)
+                best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
+                print(f"round {r + 1}: mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
+    # Rows by renderer, then spp, as before.
+    order = {}
+    for (name, spp) in best:
+        order.setdefault(name, len(order))
+    rows = sorted(((name, spp, secs, rel, flip) for (name, spp), (secs, rel, flip) in best.items()), key=lambda r: (order[r[0]], r[1]))
 
     csv_path = os.path.join(args.out, "time_to_error.csv")
     with open(csv_path, "w", newline="") as f:
