@@ -121,6 +121,8 @@ def split_obj_by_material(obj_path, out_dir):
     {material: (path, has_normals)}: vertex normals are kept where the faces give them (vkrt
     shades with them), and parts without them get face normals."""
     verts, normals, groups, current = [], [], {}, None
+    # Negative indices count back from the last vertex (or normal) so far: make them absolute.
+    absolute = lambda i, n: i if i > 0 else n + 1 + i
     with open(obj_path) as f:
         for line in f:
             parts = line.split()
@@ -133,8 +135,6 @@ def split_obj_by_material(obj_path, out_dir):
             elif parts[0] == "usemtl":
                 current = parts[1]
             elif parts[0] == "f":
-                # Negative indices count back from the last vertex so far: make them absolute.
-                absolute = lambda i, n: i if i > 0 else n + 1 + i
                 face = []
                 for p in parts[1:]:
                     idx = p.split("/")
@@ -372,6 +372,13 @@ def main():
     if flip_hdr(args.reference, args.reference) is None:
         print("flip-evaluator or mitsuba not installed (pip install flip-evaluator mitsuba): no FLIP column", file=sys.stderr)
     best = {}  # (renderer, spp) -> [seconds, relMSE, FLIP], in first-run order
+
+    def record(r, renderer, label, spp, secs, rel, flip):
+        """Keeps the shortest time of (renderer, spp) and prints the round's row."""
+        key = (renderer, spp)
+        best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
+        print(f"round {r + 1}: {label} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
+
     # Every spp of a round runs each vkrt configuration and then Mitsuba, one after the other,
     # so that a swing of the machine's speed (minutes long here) falls on both sides alike.
     for r in range(args.rounds):
@@ -384,17 +391,11 @@ def main():
                 img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence.replace('/', 'x')}{'-adaptive' if adaptive else ''}-{spp}.exr")
                 secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
                 rel = vkrt_compare(args.vkrt, img, args.reference)
-                flip = flip_hdr(img, args.reference)
-                key = (f"vkrt {name} (lavapipe)", spp)
-                best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
-                print(f"round {r + 1}: vkrt {name:24s} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
+                record(r, f"vkrt {name} (lavapipe)", f"vkrt {name:24s}", spp, secs, rel, flip_hdr(img, args.reference))
             if mitsuba:
                 img = os.path.join(args.out, f"mitsuba-{spp}.exr")
                 secs, rel = mitsuba.render(spp, img)
-                flip = flip_hdr(img, args.reference)
-                key = ("mitsuba3 llvm_ad_rgb", spp)
-                best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
-                print(f"round {r + 1}: mitsuba {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
+                record(r, "mitsuba3 llvm_ad_rgb", "mitsuba", spp, secs, rel, flip_hdr(img, args.reference))
     # Rows by renderer, then spp, as before.
     order = {}
     for (name, spp) in best:

@@ -32,7 +32,7 @@ pub fn tile_count(ctx: &Context, settings: &RenderSettings, align: u32) -> u64 {
 }
 
 /// The stride at which an image kernel deals a dispatch's `groups` workgroups to the tile's
-/// regions (`tile_region` in shaders/include/tile_region.glsl): workgroup i renders region
+/// regions (`tile_slot` in shaders/include/tile_region.glsl): workgroup i renders region
 /// (i * stride) mod groups, in row order. Why: lavapipe hands each of its threads one
 /// contiguous run of a dispatch's workgroups (Mesa's `lp_cs_tpool_queue_task`: groups /
 /// threads each, in order), so with regions in order the thread whose run holds the costlier
@@ -66,7 +66,7 @@ fn gcd(mut a: u32, mut b: u32) -> u32 {
     a
 }
 
-/// The CPU twin of the shader's `tile_region`: the region (in workgroups, row order) that
+/// The CPU twin of the region `tile_slot` (shaders/include/tile_region.glsl) picks: the region (in workgroups, row order) that
 /// workgroup `index` of a dispatch of `groups` workgroups renders.
 pub fn tile_region(index: u32, groups: u32, stride: u32) -> u32 {
     ((index as u64 * stride.max(1) as u64) % groups as u64) as u32
