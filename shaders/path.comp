@@ -127,7 +127,8 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
 void main() {
     uvec2 slot = tile_slot();
     uint key;
-    uvec2 pixel = coherent_pixel(slot, frame.width, params.coherence, params.coherence_block_bits, frame.seed, key);
+    uvec2 pixel = coherent_pixel(slot, frame.width, params.coherence, params.coherence_block_bits, frame.seed,
+                                 params.sampler_kind == SAMPLER_ZSOBOL, key);
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;
     uint index = pixel.y * frame.width + pixel.x;
     uvec2 samples = uvec2(push.sample_base, push.sample_count);
@@ -139,7 +140,7 @@ void main() {
     uint rays = 0u;
     for (uint k = 0u; k < samples.y; k++) {
         uint sample_index = samples.x + k;
-        Sampler smp = sampler_init(params.sampler_kind, key, sample_index, frame.seed, params.sample_rate);
+        Sampler smp = sampler_init(params.sampler_kind, key, sample_index, frame.seed, params.sample_rate, params.zsobol_log2);
         vec2 xy = vec2(pixel) + sampler_pixel(smp);
         vec3 origin = frame.cam_origin;
         vec3 dir;

@@ -24,7 +24,7 @@ fn cornell_converges_to_the_mitsuba_reference_with_every_sampler() {
     let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
     let scene = cornell();
     let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
-    for sampler in [SamplerKind::Sobol, SamplerKind::Independent, SamplerKind::Stratified] {
+    for sampler in SamplerKind::ALL {
         let mut settings = common::path_settings(reference.width, reference.height, SPP);
         settings.sampler = sampler;
         let image = common::render_path(&scene, &settings).image();
@@ -112,7 +112,7 @@ fn coherent_sampling_meets_the_same_bound_rows_streak_and_scattered_groups_do_no
     let mut groups = std::collections::BTreeMap::<u32, Vec<(u32, u32)>>::new();
     for y in 0..h.next_multiple_of(32) {
         for x in 0..w.next_multiple_of(32) {
-            let (p, key) = coherent_pixel((x, y), w, 8, 32, seed);
+            let (p, key) = coherent_pixel((x, y), w, 8, 32, seed, settings.sampler == SamplerKind::Zsobol);
             if p.0 < w && p.1 < h {
                 groups.entry(key).or_default().push(p);
             }
@@ -138,9 +138,15 @@ fn coherent_sampling_meets_the_same_bound_rows_streak_and_scattered_groups_do_no
 /// a path's value depends only on its random numbers (every bounce weighs the albedo, roulette
 /// reads the throughput), so pixels that draw the same numbers get the very same value: the
 /// groups the CPU twin (`path::coherence::coherent_pixel`) names must be exactly the shader's,
-/// on an image that is not a whole number of blocks.
+/// on an image that is not a whole number of blocks, for both ways of dealing the groups.
 #[test]
 fn scattered_group_mates_draw_the_same_numbers() {
+    for sampler in [SamplerKind::Zsobol, SamplerKind::Sobol] {
+        group_mates_draw_the_same_numbers(sampler);
+    }
+}
+
+fn group_mates_draw_the_same_numbers(sampler: SamplerKind) {
     use vkrt::integrator::path::coherence::coherent_pixel;
     let wall = vkrt::scene::Material { name: "furnace".into(), diffuse: glam::Vec3::splat(0.9), emission: glam::Vec3::ONE, ..Default::default() };
     let scene = vkrt::scene::Scene {
@@ -153,12 +159,13 @@ fn scattered_group_mates_draw_the_same_numbers() {
     let mut settings = common::path_settings(w, h, 16);
     settings.nee = false;
     settings.image.seed = 3;
+    settings.sampler = sampler;
     assert_eq!((settings.coherence, settings.coherence_block), (8, 32), "the defaults");
     let image = common::render_path(&scene, &settings).image();
     let mut groups = std::collections::BTreeMap::<u32, Vec<(u32, u32)>>::new();
     for y in 0..h.next_multiple_of(32) {
         for x in 0..w.next_multiple_of(32) {
-            let (p, key) = coherent_pixel((x, y), w, 8, 32, settings.image.seed);
+            let (p, key) = coherent_pixel((x, y), w, 8, 32, settings.image.seed, sampler == SamplerKind::Zsobol);
             if p.0 < w && p.1 < h {
                 groups.entry(key).or_default().push(p);
             }
@@ -168,7 +175,7 @@ fn scattered_group_mates_draw_the_same_numbers() {
     let same = |pairs: &[((u32, u32), (u32, u32))]| pairs.iter().filter(|&&(p, q)| image.get(p.0, p.1) == image.get(q.0, q.1)).count() as f64 / pairs.len() as f64;
     let (neighbours, _) = neighbour_pairs(w, h, &|_, _| true);
     let (mates_same, neighbours_same) = (same(&mates), same(&neighbours));
-    eprintln!("equal values: {:.1} % of {} group-mate pairs, {:.1} % of horizontal neighbours", mates_same * 100.0, mates.len(), neighbours_same * 100.0);
+    eprintln!("{sampler:?}: equal values: {:.1} % of {} group-mate pairs, {:.1} % of horizontal neighbours", mates_same * 100.0, mates.len(), neighbours_same * 100.0);
     // Not all: where shading normals bend a bounce below the surface that path ends early.
     assert!(mates_same > 0.95, "only {:.1} % of group-mates have equal values", mates_same * 100.0);
     assert!(neighbours_same < 0.05, "{:.1} % of neighbours have equal values", neighbours_same * 100.0);

@@ -3,7 +3,10 @@
 //! - Sobol: every 2D pair of every pixel is a (0,2)-sequence after scrambling and shuffling:
 //!   its first 2^m points put exactly one point in each elementary interval of area 2^-m
 //!   (Owen scrambling and Burley's index shuffle keep this; Burley 2020, JCGT 9(4));
-//! - both samplers: values lie in [0, 1), and pixels and pairs are decorrelated (no two
+//! - Z-ordered Sobol: each pixel's pairs are such nets too, and every aligned square of
+//!   2^a x 2^a pixels (a run of 4^a cells in Z order) together draws a finer net, which is
+//!   what makes neighbours' errors cancel (Ahmed & Wonka 2020);
+//! - every sampler: values lie in [0, 1), and pixels and pairs are decorrelated (no two
 //!   pixels or pairs draw the same sequence).
 
 mod common;
@@ -72,9 +75,38 @@ fn sobol_pairs_are_scrambled_0_2_sequences() {
     }
 }
 
+/// Pixels `first .. first + run` of the probe, pair `pair`, all their points.
+fn run_points(draws: &[Vec<[[f32; 2]; PAIRS]>], first: usize, run: usize, pair: usize) -> Vec<[f32; 2]> {
+    draws[first..first + run].iter().flatten().map(|s| s[pair]).collect()
+}
+
+#[test]
+fn zsobol_pixels_and_squares_of_pixels_are_nets() {
+    let draws = run_probe(SAMPLER_ZSOBOL, 7);
+    for pair in 0..PAIRS {
+        for (cell, samples) in draws.iter().enumerate() {
+            let points: Vec<[f32; 2]> = samples.iter().map(|s| s[pair]).collect();
+            for m in 0..=LOG_N {
+                assert_eq!(net_defects(&points[..1 << m], m), 0, "cell {cell}, pair {pair}: the first 2^{m} points are not a (0,{m},2)-net");
+            }
+        }
+        for a in 1..=3u32 {
+            let run = 1usize << (2 * a);
+            for first in (0..PIXELS as usize).step_by(run) {
+                let m = LOG_N + 2 * a;
+                assert_eq!(net_defects(&run_points(&draws, first, run, pair), m), 0, "cells {first}..+{run}, pair {pair}: not a (0,{m},2)-net");
+            }
+        }
+    }
+    // The property is Z order's: pixels with their own sequences (sobol) jointly are not nets.
+    let own = run_probe(SAMPLER_SOBOL, 7);
+    let defects: usize = (0..PIXELS as usize).step_by(4).map(|first| net_defects(&run_points(&own, first, 4, 0), LOG_N + 2)).sum();
+    assert!(defects > 0, "sobol's independent pixels form nets together too: the check cannot tell");
+}
+
 #[test]
 fn draws_are_in_the_unit_square_and_decorrelated() {
-    for kind in [SAMPLER_SOBOL, SAMPLER_INDEPENDENT] {
+    for kind in [SAMPLER_SOBOL, SAMPLER_INDEPENDENT, SAMPLER_ZSOBOL] {
         let draws = run_probe(kind, 3);
         let mut seen = std::collections::HashSet::new();
         for samples in &draws {

@@ -318,7 +318,7 @@ def main():
     ap.add_argument("--width", type=int, default=512)
     ap.add_argument("--height", type=int, default=512)
     ap.add_argument("--spp", type=int, nargs="+", default=[1, 4, 16, 64])
-    ap.add_argument("--samplers", nargs="+", default=["sobol", "independent"])
+    ap.add_argument("--samplers", nargs="+", default=["zsobol", "sobol"])
     ap.add_argument("--coherence", nargs="+", default=["default"],
                     help="coherent sampling to run each sampler with: default (vkrt's defaults), N (N pixels "
                          "in a row share numbers; 1: none), N/B (N pixels scattered over B x B blocks)")

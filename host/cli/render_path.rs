@@ -30,7 +30,7 @@ pub const DEFAULT_SAMPLES_PER_BATCH: u32 = 4;
 /// (an error with an explicit `--integrator whitted`).
 #[derive(Debug, Args, Default)]
 pub struct PathArgs {
-    /// Path tracer: sample generator [default: sobol].
+    /// Path tracer: sample generator [default: zsobol].
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerKind>,
     /// Path tracer, stratified sampler: strata per pixel side (N^2 strata) [default: 4].
@@ -147,7 +147,7 @@ pub struct PathRun<'a> {
 /// The settings a path-traced run uses: each flag, or when resuming the checkpoint's value,
 /// or the default. Differences from the checkpoint are caught by its identity check.
 pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u32>, resumed: Option<&RunSettings>, stop: Stop) -> PathSettings {
-    let sampler = args.sampler.or_else(|| resumed.and_then(|r| SamplerKind::from_gpu_value(r.sampler))).unwrap_or(SamplerKind::Sobol);
+    let sampler = args.sampler.or_else(|| resumed.and_then(|r| SamplerKind::from_gpu_value(r.sampler))).unwrap_or(SamplerKind::Zsobol);
     let stored_depth = resumed.map(|r| if r.max_depth == PATH_DEPTH_UNBOUNDED { None } else { Some(r.max_depth) });
     let (coherence, coherence_block) = coherence(args, resumed);
     PathSettings {
@@ -155,6 +155,8 @@ pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u
         max_depth: max_depth.or(stored_depth.flatten()),
         sampler,
         sample_rate: args.sample_rate.or(resumed.map(|r| r.sample_rate)).unwrap_or(DEFAULT_SAMPLE_RATE),
+        // A resumed run keeps its sets, whatever its new sample count: the same numbers as one run.
+        zsobol_log2: resumed.map_or_else(|| path::zsobol_log2(stop.spp), |r| r.zsobol_log2),
         nee: if args.no_nee { false } else { resumed.map_or(true, |r| r.nee != 0) },
         coherence,
         coherence_block,
@@ -207,6 +209,7 @@ fn run_settings(run: &PathRun, identity: Identity) -> RunSettings {
         integrator: "path".into(),
         sampler: s.sampler.gpu_value(),
         sample_rate: s.sample_rate,
+        zsobol_log2: s.zsobol_log2,
         max_depth: s.max_depth.unwrap_or(PATH_DEPTH_UNBOUNDED),
         nee: s.nee as u32,
         coherence: s.coherence,

@@ -168,10 +168,19 @@ shared_constants! {
 
     /// Path tracer samplers (`GpuPathParams::sampler`).
     SAMPLER_INDEPENDENT = 0;
-    /// Owen-scrambled Sobol (Burley 2020), the default.
+    /// Owen-scrambled Sobol (Burley 2020), each pixel its own sequence.
     SAMPLER_SOBOL = 1;
     /// `sample_rate`^2 strata per pixel for the pixel position, independent elsewhere.
     SAMPLER_STRATIFIED = 2;
+    /// Sobol with the pixels' sample sets in Z order (Ahmed & Wonka 2020), the default:
+    /// neighbouring pixels take neighbouring parts of one sequence, so errors are blue noise.
+    SAMPLER_ZSOBOL = 3;
+    /// The largest log2 of a Z-ordered set's samples per pixel (`GpuPathParams::zsobol_log2`):
+    /// the set's index, `ZSOBOL_CELL_BITS` of position and this many of sample, is 32 bits.
+    ZSOBOL_MAX_LOG2 = 16;
+    /// Bits of a Z-ordered cell's position in its tile (a 256 x 256 tile of pixels, or of
+    /// groups in a row; with scattered coherence a block's groups, at most 2^16 of them).
+    ZSOBOL_CELL_BITS = 16;
     /// Path depth at which Russian roulette starts (Mitsuba's default, which the references use).
     PATH_RR_DEPTH = 5;
     /// `GpuPathParams::max_depth` meaning "unbounded".

@@ -100,7 +100,9 @@ gpu_structs! {
         /// scattered; 0: groups are `coherence` pixels in a row (see
         /// `crate::integrator::path::PathSettings::coherence_block`).
         pub coherence_block_bits: u32,
-        pub _pad1: u32,
+        /// `SAMPLER_ZSOBOL`: log2 of the samples per pixel of one Z-ordered set (sample k
+        /// belongs to set k >> zsobol_log2), at most `ZSOBOL_MAX_LOG2`.
+        pub zsobol_log2: u32,
         pub _pad2: u32,
     }
 

@@ -201,7 +201,7 @@ struct GpuPathParams {
     uint coherence;
     uint adaptive;
     uint coherence_block_bits;
-    uint _pad1;
+    uint zsobol_log2;
     uint _pad2;
 };
 

@@ -59,18 +59,55 @@ uint sample_key(uvec2 pixel, uint width, uint coherence) {
     return pixel.y * ((width + c - 1u) / c) + pixel.x / c;
 }
 
-// Scattered coherence (PathSettings::coherence_block = 2^block_bits > 0, coherence > 1): the
-// pixels of each block_size x block_size block are dealt to its invocations in a random order
-// (a 4-round Feistel network on the two halves of the slot's bits, keyed by the block and the
-// seed), and each run of `coherence` slots (one row of lanes of the 8-wide workgroup) draws the
-// same sample numbers. The lanes trace alike (same light, lobe, direction and roulette choices
-// at nearby points), but the pixels whose errors are correlated lie scattered over the block,
-// so the noise shows no streaks (docs/experiments/scattered-coherence.md). The dispatch covers
-// whole blocks (integrator::tiles). Returns the pixel slot `slot` renders; `key` its numbers.
+// The even-numbered bits of x, packed: the x coordinate of a Morton (Z-order) code.
+uint morton_compact(uint x) {
+    x &= 0x55555555u;
+    x = (x | (x >> 1)) & 0x33333333u;
+    x = (x | (x >> 2)) & 0x0f0f0f0fu;
+    x = (x | (x >> 4)) & 0x00ff00ffu;
+    x = (x | (x >> 8)) & 0x0000ffffu;
+    return x;
+}
+
+// x's low 16 bits spread to the even-numbered bits.
+uint morton_spread(uint x) {
+    x &= 0x0000ffffu;
+    x = (x | (x << 8)) & 0x00ff00ffu;
+    x = (x | (x << 4)) & 0x0f0f0f0fu;
+    x = (x | (x << 2)) & 0x33333333u;
+    x = (x | (x << 1)) & 0x55555555u;
+    return x;
+}
+
+// Scattered coherence (PathSettings::coherence_block = 2^block_bits > 0, coherence > 1): each
+// run of `coherence` slots (one row of lanes of the 8-wide workgroup) draws the same sample
+// numbers, and its pixels lie scattered over the block, so the lanes trace alike (same light,
+// lobe, direction and roulette choices at nearby points) while the pixels whose errors are
+// correlated are far apart and the noise shows no streaks (docs/experiments/
+// scattered-coherence.md). The dispatch covers whole blocks (integrator::tiles). Returns the
+// pixel slot `slot` renders; `key` its numbers.
+// - Independent orders (`zordered` false: sobol and the other samplers): the block's pixels are
+//   dealt to its slots in a random order (a 4-round Feistel network on the two halves of the
+//   slot's bits, keyed by the block and the seed).
+// - Z order (`zordered`, SAMPLER_ZSOBOL): the block is cut into `coherence` sub-tiles (a grid
+//   of 2^floor(k/2) x 2^ceil(k/2) for coherence 2^k), and group g takes the pixel at Z-order
+//   position g of each sub-tile, each sub-tile's positions rolled by its own random offset
+//   (so that the group's pixels are not a regular lattice). Neighbouring pixels then belong
+//   to neighbouring groups, whose Z-ordered sets make the error blue noise; the key is
+//   (block << ZSOBOL_CELL_BITS) | g. Without scattering the key is (tile << ZSOBOL_CELL_BITS)
+//   | Z-order position of the group in its 256 x 256 tile of groups.
 // CPU twin: integrator::path::coherence::coherent_pixel.
-uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, uint seed, out uint key) {
+uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, uint seed, bool zordered, out uint key) {
     if (block_bits == 0u || coherence <= 1u) {
-        key = sample_key(slot, width, coherence);
+        if (!zordered) {
+            key = sample_key(slot, width, coherence);
+        } else {
+            uint c = max(coherence, 1u);
+            uvec2 g = uvec2(slot.x / c, slot.y);
+            uint tiles_per_row = ((width + c - 1u) / c + 255u) >> 8u;
+            uint tile = (g.y >> 8u) * tiles_per_row + (g.x >> 8u);
+            key = (tile << ZSOBOL_CELL_BITS) | morton_spread(g.x & 255u) | (morton_spread(g.y & 255u) << 1u);
+        }
         return slot;
     }
     uint side = 1u << block_bits;
@@ -79,6 +116,21 @@ uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, ui
     uint block_index = block.y * ((width + mask) >> block_bits) + block.x;
     uint q = ((slot.y & mask) << block_bits) | (slot.x & mask);
     uint block_seed = hash_pcg(block_index ^ hash_pcg(seed ^ 0x5bd1e995u));
+    if (zordered) {
+        uint k = uint(findMSB(coherence));
+        uint group = q >> k;
+        uint member = q & (coherence - 1u);
+        // Sub-tiles: 2^kx across, 2^ky down; each w x h, w = h or 2h (the Z order's extra bit is x's).
+        uint kx = k / 2u;
+        uint ky = k - kx;
+        uint w = side >> kx;
+        uint h = side >> ky;
+        uint roll = hash_pcg(block_seed ^ (member * 0x9e3779b9u));
+        uint x = (morton_compact(group) + roll) & (w - 1u);
+        uint y = (morton_compact(group >> 1u) + (roll >> 16u)) & (h - 1u);
+        key = (block_index << ZSOBOL_CELL_BITS) | group;
+        return (block << block_bits) + uvec2((member & ((1u << kx) - 1u)) * w + x, (member >> kx) * h + y);
+    }
     uint l = q >> block_bits;
     uint r = q & mask;
     for (uint round = 0u; round < 4u; round++) {
@@ -91,14 +143,32 @@ uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, ui
     return (block << block_bits) + uvec2(r, l);
 }
 
-Sampler sampler_init(uint kind, uint pixel, uint sample_index, uint seed, uint sample_rate) {
+// `key` names the sample numbers (coherent_pixel); `zsobol_log2` is SAMPLER_ZSOBOL's set size.
+// Z-ordered Sobol (Ahmed & Wonka 2020, "Screen-space blue-noise diffusion of Monte Carlo
+// sampling error via hierarchical ordering of pixels"; pbrt-v4's ZSobolSampler): sample j of
+// the cell at Z-order position z of its tile is point (z << zsobol_log2) | j of one Sobol
+// sequence per tile, set and dimension pair, its index Owen-scrambled as a whole. The
+// scramble maps every aligned power-of-two range of indices onto another, so each pixel still
+// draws a whole (0,m,2)-net per power-of-two prefix, and every aligned 2^a x 2^a square of cells
+// together draws a finer one: neighbours take complementary strata and their errors cancel
+// locally (blue noise). The structure holds within a set of 2^zsobol_log2 samples per pixel
+// (the run's spp rounded up); sample j belongs to set j >> zsobol_log2, each set with its own
+// scramble.
+Sampler sampler_init(uint kind, uint key, uint sample_index, uint seed, uint sample_rate, uint zsobol_log2) {
     Sampler s;
     s.kind = kind;
-    s.pixel_seed = hash_pcg(pixel ^ hash_pcg(seed ^ 0x9e3779b9u));
     s.index = sample_index;
     s.dim = 0u;
     s.sample_rate = max(sample_rate, 1u);
-    s.rng = rng_init(pixel, sample_index, seed);
+    s.rng = rng_init(key, sample_index, seed);
+    if (kind == SAMPLER_ZSOBOL) {
+        uint set = zsobol_log2 >= 32u ? 0u : sample_index >> zsobol_log2;
+        uint j = sample_index & ((1u << zsobol_log2) - 1u);
+        s.index = ((key & ((1u << ZSOBOL_CELL_BITS) - 1u)) << zsobol_log2) | j;
+        s.pixel_seed = hash_pcg((key >> ZSOBOL_CELL_BITS) ^ hash_pcg(set ^ hash_pcg(seed ^ 0x2c1b3c6du)));
+    } else {
+        s.pixel_seed = hash_pcg(key ^ hash_pcg(seed ^ 0x9e3779b9u));
+    }
     return s;
 }
 
@@ -110,7 +180,7 @@ float u32_to_unit(uint x) {
 // Sobol: each pair of dimensions is its own Owen-scrambled 2D Sobol sequence, its sample order
 // shuffled by a scramble of the index (Burley 2020, section 4: "padding" by shuffling), so that
 // pairs are decorrelated from each other and from neighbouring pixels. This is the seed of
-// pair d of this pixel's sequence.
+// pair d of this pixel's sequence (Z-ordered Sobol: of this tile's and set's sequence).
 uint sobol_pair_seed(Sampler s, uint d) {
     return hash_pcg(s.pixel_seed ^ hash_pcg(d + 0x68bc21ebu));
 }
@@ -124,7 +194,7 @@ float sobol_first(uint index, uint h) {
 // The next two dimensions.
 vec2 sampler_2d(inout Sampler s) {
     uint d = s.dim++;
-    if (s.kind == SAMPLER_SOBOL) {
+    if (s.kind == SAMPLER_SOBOL || s.kind == SAMPLER_ZSOBOL) {
         uint h = sobol_pair_seed(s, d);
         uint index = owen_scramble(s.index, h);
         return vec2(sobol_first(index, h), u32_to_unit(owen_scramble(sobol_dim1(index), hash_pcg(h ^ 0x63d83595u))));
@@ -136,7 +206,7 @@ vec2 sampler_2d(inout Sampler s) {
 // (three of the path tracer's five draws per bounce are 1D).
 float sampler_1d(inout Sampler s) {
     uint d = s.dim++;
-    if (s.kind == SAMPLER_SOBOL) {
+    if (s.kind == SAMPLER_SOBOL || s.kind == SAMPLER_ZSOBOL) {
         uint h = sobol_pair_seed(s, d);
         return sobol_first(owen_scramble(s.index, h), h);
     }

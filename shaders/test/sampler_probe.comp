@@ -1,8 +1,8 @@
 #version 460
 // Runs the path tracer's sampler (shaders/include/sampler.glsl) so tests/sampler.rs can check
 // its stratification. Invocation i draws sample i % n of pixel i / n (n = push.sample_count,
-// seed push.sample_base, kind push.ray_count) and writes PROBE_PAIRS consecutive 2D draws,
-// two per vec4.
+// seed push.sample_base, kind push.ray_count; for SAMPLER_ZSOBOL the pixel is the Z-order
+// cell and n the set size) and writes PROBE_PAIRS consecutive 2D draws, two per vec4.
 #extension GL_GOOGLE_include_directive : require
 
 #include "constants.glsl"
@@ -21,7 +21,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     uint n = push.sample_count;
     if (i >= n * push.total_spp) return;
-    Sampler s = sampler_init(push.ray_count, i / n, i % n, push.sample_base, 1u);
+    Sampler s = sampler_init(push.ray_count, i / n, i % n, push.sample_base, 1u, uint(findMSB(n)));
     for (uint p = 0u; p < PROBE_PAIRS; p += 2u) {
         vec2 a = sampler_2d(s);
         vec2 b = sampler_2d(s);

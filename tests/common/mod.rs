@@ -127,10 +127,11 @@ pub fn upload_lit<'a>(ctx: &'a Context, scene: &vkrt::scene::Scene, env: Option<
 
 /// Path tracer settings for a `width` x `height` render of `spp` samples.
 pub fn path_settings(width: u32, height: u32, spp: u64) -> vkrt::integrator::path::PathSettings {
-    use vkrt::integrator::path::{PathSettings, Stop};
+    use vkrt::integrator::path::{zsobol_log2, PathSettings, Stop};
     let mut s = PathSettings::default();
     s.image.width = width;
     s.image.height = height;
     s.stop = Stop { spp: Some(spp), ..Stop::default() };
+    s.zsobol_log2 = zsobol_log2(Some(spp));
     s
 }

@@ -18,7 +18,8 @@
 //! that many u32, then (version 4) the sky override string and the inputs as a u32 count and
 //! that many (path string, hash u64). Versions 1 to 3 stored only an FNV-1a hash of the scene
 //! file itself, in the slot where version 4 stores 0; they still read, with that weaker
-//! identity ([`Identity::SceneFile`]).
+//! identity ([`Identity::SceneFile`]). Version 8 stores `zsobol_log2` after `coherence_block`
+//! (read as 0 from older files, whose samplers did not read it).
 //! Written to a temporary file beside the target and renamed into place, so a crash never
 //! leaves a half-written checkpoint under the real name.
 
@@ -28,7 +29,9 @@ use anyhow::{bail, Context as _, Result};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"VKRTCKPT";
-const VERSION: u32 = 7;
+const VERSION: u32 = 8;
+/// The last format before `zsobol_log2` was stored (read as 0: no Z-ordered sampler then).
+const VERSION_BEFORE_ZSOBOL: u32 = 7;
 /// The last format before `coherence_block` was stored (read as 0: coherence groups in a row).
 const VERSION_BEFORE_COHERENCE_BLOCK: u32 = 6;
 /// The last format whose camera had no lens (ten numbers; read as a pinhole).
@@ -103,6 +106,8 @@ pub struct RunSettings {
     /// `SAMPLER_*`, and the strata per side for the stratified sampler.
     pub sampler: u32,
     pub sample_rate: u32,
+    /// The Z-ordered sampler's set size (`PathSettings::zsobol_log2`).
+    pub zsobol_log2: u32,
     /// `PATH_DEPTH_UNBOUNDED` or the depth.
     pub max_depth: u32,
     /// 1: next-event estimation with MIS; 0: BSDF sampling only.
@@ -133,11 +138,12 @@ impl RunSettings {
     pub fn check_same_render(&self, other: &RunSettings, names: (&str, &str)) -> Result<()> {
         let (a_name, b_name) = names;
         check_same_scene(&self.identity, &other.identity, a_name, b_name)?;
-        let checks: [(&str, String, String); 8] = [
+        let checks: [(&str, String, String); 9] = [
             ("size", format!("{}x{}", self.width, self.height), format!("{}x{}", other.width, other.height)),
             ("integrator", self.integrator.clone(), other.integrator.clone()),
             ("sampler", sampler_name(self.sampler), sampler_name(other.sampler)),
             ("sample rate", self.sample_rate.to_string(), other.sample_rate.to_string()),
+            ("Z-ordered sample set", format!("{} spp", 1u64 << self.zsobol_log2), format!("{} spp", 1u64 << other.zsobol_log2)),
             ("max depth", depth_name(self.max_depth), depth_name(other.max_depth)),
             ("light sampling", if self.nee != 0 { "on" } else { "off (--no-nee)" }.into(), if other.nee != 0 { "on" } else { "off (--no-nee)" }.into()),
             ("coherence", self.coherence.to_string(), other.coherence.to_string()),
@@ -337,7 +343,7 @@ impl Checkpoint {
             out.extend_from_slice(&seed.to_le_bytes());
         }
         put_str(&mut out, &s.integrator);
-        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block] {
+        for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block, s.zsobol_log2] {
             out.extend_from_slice(&v.to_le_bytes());
         }
         let none = ShardSet { count: 0, total_spp: 0, indices: Vec::new() };
@@ -412,6 +418,10 @@ impl Checkpoint {
         let coherence = if version == VERSION_BEFORE_COHERENCE { 1 } else { r.u32("coherence")? };
         // Before format 7 coherence groups were rows.
         let coherence_block = if version > VERSION_BEFORE_COHERENCE_BLOCK { r.u32("coherence_block")? } else { 0 };
+        let zsobol_log2 = if version > VERSION_BEFORE_ZSOBOL { r.u32("zsobol_log2")? } else { 0 };
+        if zsobol_log2 > crate::gpu_abi::constants::ZSOBOL_MAX_LOG2 {
+            bail!("field `zsobol_log2` is {zsobol_log2}, more than {}", crate::gpu_abi::constants::ZSOBOL_MAX_LOG2);
+        }
         let shards = if version > VERSION_BEFORE_FIXED { r.shards()? } else { None };
         let samples = r.u64("samples")?;
         let even_samples = r.u64("even_samples")?;
@@ -484,6 +494,7 @@ impl Checkpoint {
                 integrator,
                 sampler,
                 sample_rate,
+                zsobol_log2,
                 max_depth,
                 nee,
                 coherence,
@@ -578,6 +589,7 @@ mod tests {
             integrator: "path".into(),
             sampler: crate::gpu_abi::constants::SAMPLER_SOBOL,
             sample_rate: 4,
+            zsobol_log2: 6,
             max_depth: u32::MAX,
             nee: 1,
             coherence: 8,
@@ -645,20 +657,40 @@ mod tests {
         out
     }
 
+    /// `c`'s bytes as format `version` writes them: the last `drop` of the settings words
+    /// (coherence_block, zsobol_log2) left out.
+    fn without_last_setting_words(c: &Checkpoint, drop: usize, version: u32) -> Vec<u8> {
+        let bytes = c.to_bytes();
+        let s = &c.settings;
+        let words: Vec<u8> = [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block, s.zsobol_log2]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let end = bytes.windows(words.len()).position(|w| w == words.as_slice()).expect("the settings words") + words.len();
+        let mut old = [&bytes[..end - 4 * drop], &bytes[end..]].concat();
+        old[8..12].copy_from_slice(&version.to_le_bytes());
+        old
+    }
+
     /// Format-6 files (before `coherence_block`) read as coherence groups in a row, the only
     /// kind there was.
     #[test]
     fn format_6_reads_as_coherence_in_rows() {
         let c = sample(5);
-        let bytes = c.to_bytes();
-        let s = &c.settings;
-        let words: Vec<u8> = [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block].iter().flat_map(|v| v.to_le_bytes()).collect();
-        let at = bytes.windows(words.len()).position(|w| w == words.as_slice()).expect("the settings words") + words.len() - 4;
-        let mut old = [&bytes[..at], &bytes[at + 4..]].concat();
-        old[8..12].copy_from_slice(&VERSION_BEFORE_COHERENCE_BLOCK.to_le_bytes());
-        let read = Checkpoint::from_bytes(&old).unwrap();
+        let read = Checkpoint::from_bytes(&without_last_setting_words(&c, 2, VERSION_BEFORE_COHERENCE_BLOCK)).unwrap();
         assert_eq!(read.settings.coherence, 8);
         assert_eq!(read.settings.coherence_block, 0);
+        assert_eq!(read.accum, c.accum);
+    }
+
+    /// Format-7 files (before the Z-ordered sampler) read with set size 0, which their samplers
+    /// never read; everything else is as written.
+    #[test]
+    fn format_7_reads_without_zsobol_sets() {
+        let c = sample(5);
+        let read = Checkpoint::from_bytes(&without_last_setting_words(&c, 1, VERSION_BEFORE_ZSOBOL)).unwrap();
+        assert_eq!(read.settings.zsobol_log2, 0);
+        assert_eq!((read.settings.coherence, read.settings.coherence_block), (8, 32));
         assert_eq!(read.accum, c.accum);
     }
 
@@ -669,6 +701,7 @@ mod tests {
         let mut c = legacy(3);
         c.settings.coherence = 8;
         c.settings.coherence_block = 0;
+        c.settings.zsobol_log2 = 0;
         let sum = vec![[3.0f32, 0.5, 0.0, 1.0]; 6];
         let even = vec![[1.0f32, 0.25, 0.0, 0.0]; 6];
         let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_INPUTS, &sum, &even)).unwrap();

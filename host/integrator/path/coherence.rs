@@ -16,6 +16,7 @@
 //! [`coherent_pixel`] is the CPU twin of shaders/include/sampler.glsl's `coherent_pixel`: the
 //! tests use it to find the pixels whose errors must be correlated.
 
+use crate::gpu_abi::constants::ZSOBOL_CELL_BITS;
 use anyhow::{bail, Result};
 
 /// Pixels that draw the same sample numbers by default: one row of the 8-wide image workgroup,
@@ -77,14 +78,40 @@ fn row_key(slot: (u32, u32), width: u32, coherence: u32) -> u32 {
     slot.1 * width.div_ceil(c) + slot.0 / c
 }
 
+/// The even-numbered bits of `x`, packed (sampler.glsl's `morton_compact`).
+fn morton_compact(x: u32) -> u32 {
+    let mut x = x & 0x5555_5555;
+    x = (x | (x >> 1)) & 0x3333_3333;
+    x = (x | (x >> 2)) & 0x0f0f_0f0f;
+    x = (x | (x >> 4)) & 0x00ff_00ff;
+    (x | (x >> 8)) & 0x0000_ffff
+}
+
+/// `x`'s low 16 bits spread to the even-numbered bits (sampler.glsl's `morton_spread`).
+fn morton_spread(x: u32) -> u32 {
+    let mut x = x & 0x0000_ffff;
+    x = (x | (x << 8)) & 0x00ff_00ff;
+    x = (x | (x << 4)) & 0x0f0f_0f0f;
+    x = (x | (x << 2)) & 0x3333_3333;
+    (x | (x << 1)) & 0x5555_5555
+}
+
 /// The pixel invocation `slot` (tile origin plus global invocation id) renders, and the key of
-/// the sample numbers it draws; `seed` is the render's seed. The pixel may lie outside the
-/// image (the invocation then does nothing) only where `slot` does too, for a dispatch that
-/// covers whole blocks.
-pub fn coherent_pixel(slot: (u32, u32), width: u32, coherence: u32, block: u32, seed: u32) -> ((u32, u32), u32) {
+/// the sample numbers it draws; `seed` is the render's seed, `zordered` true for the Z-ordered
+/// sampler (whose groups are dealt in Z order, sampler.glsl's `coherent_pixel` says how). The
+/// pixel may lie outside the image (the invocation then does nothing) only where `slot` does
+/// too, for a dispatch that covers whole blocks.
+pub fn coherent_pixel(slot: (u32, u32), width: u32, coherence: u32, block: u32, seed: u32, zordered: bool) -> ((u32, u32), u32) {
     let bits = block_bits(coherence, block);
     if bits == 0 {
-        return (slot, row_key(slot, width, coherence));
+        if !zordered {
+            return (slot, row_key(slot, width, coherence));
+        }
+        let c = coherence.max(1);
+        let g = (slot.0 / c, slot.1);
+        let tiles_per_row = (width.div_ceil(c) + 255) >> 8;
+        let tile = (g.1 >> 8) * tiles_per_row + (g.0 >> 8);
+        return (slot, (tile << ZSOBOL_CELL_BITS) | morton_spread(g.0 & 255) | (morton_spread(g.1 & 255) << 1));
     }
     let side = 1u32 << bits;
     let mask = side - 1;
@@ -93,6 +120,17 @@ pub fn coherent_pixel(slot: (u32, u32), width: u32, coherence: u32, block: u32, 
     let block_index = by * blocks_per_row + bx;
     let q = ((slot.1 & mask) << bits) | (slot.0 & mask);
     let block_seed = hash_pcg(block_index ^ hash_pcg(seed ^ 0x5bd1e995));
+    if zordered {
+        let k = coherence.trailing_zeros();
+        let (group, member) = (q >> k, q & (coherence - 1));
+        let (kx, ky) = (k / 2, k - k / 2);
+        let (w, h) = (side >> kx, side >> ky);
+        let roll = hash_pcg(block_seed ^ member.wrapping_mul(0x9e3779b9));
+        let x = morton_compact(group).wrapping_add(roll) & (w - 1);
+        let y = morton_compact(group >> 1).wrapping_add(roll >> 16) & (h - 1);
+        let key = (block_index << ZSOBOL_CELL_BITS) | group;
+        return (((bx << bits) + (member & ((1 << kx) - 1)) * w + x, (by << bits) + (member >> kx) * h + y), key);
+    }
     // A 4-round Feistel network on the slot's two halves: a bijection of the block's slots.
     let (mut l, mut r) = (q >> bits, q & mask);
     for round in 0..4u32 {
@@ -109,12 +147,19 @@ mod tests {
 
     #[test]
     fn each_block_is_dealt_out_once_and_groups_hold_coherence_pixels() {
-        let (w, h, c, b) = (96, 64, 8, 32);
+        for zordered in [false, true] {
+            for (c, b) in [(8, 32), (2, 8), (16, 32)] {
+                dealt_once(96, 64, c, b, zordered);
+            }
+        }
+    }
+
+    fn dealt_once(w: u32, h: u32, c: u32, b: u32, zordered: bool) {
         let mut seen = vec![0u32; (w * h) as usize];
         let mut groups = std::collections::HashMap::<u32, Vec<(u32, u32)>>::new();
         for y in 0..h {
             for x in 0..w {
-                let (p, key) = coherent_pixel((x, y), w, c, b, 7);
+                let (p, key) = coherent_pixel((x, y), w, c, b, 7, zordered);
                 assert_eq!((p.0 / b, p.1 / b), (x / b, y / b), "a pixel left its block");
                 seen[(p.1 * w + p.0) as usize] += 1;
                 groups.entry(key).or_default().push(p);
@@ -125,13 +170,42 @@ mod tests {
         assert!(groups.values().all(|g| g.len() == c as usize));
         // Scattered: a group's pixels are rarely neighbours in a row.
         let adjacent = groups.values().flat_map(|g| g.iter().map(move |p| g.contains(&(p.0 + 1, p.1)) as u32)).sum::<u32>();
-        assert!(adjacent * 20 < w * h, "{adjacent} of {} pixels have a group-mate to their right", w * h);
+        assert!(adjacent * 20 < w * h, "{c}/{b} z {zordered}: {adjacent} of {} pixels have a group-mate to their right", w * h);
+    }
+
+    /// Z order: a pixel's right and lower neighbours belong to groups next to its own in Z
+    /// order (same cell quad, or a neighbouring one) except where a sub-tile's roll wraps, so
+    /// that their Z-ordered sets are complementary strata of one sequence.
+    #[test]
+    fn zordered_neighbours_take_neighbouring_cells() {
+        let (w, h, c, b) = (64u32, 64u32, 8u32, 32u32);
+        let mut cell = vec![0u32; (w * h) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let (p, key) = coherent_pixel((x, y), w, c, b, 3, true);
+                cell[(p.1 * w + p.0) as usize] = key;
+            }
+        }
+        let (mut same_quad, mut pairs) = (0, 0);
+        for y in 0..h {
+            for x in 0..w - 1 {
+                let (a, n) = (cell[(y * w + x) as usize], cell[(y * w + x + 1) as usize]);
+                pairs += 1;
+                same_quad += (a >> 2 == n >> 2) as u32;
+            }
+        }
+        // Half of all horizontal pairs share a quad of cells when the tiles are 2-aligned;
+        // random rolls misalign some sub-tiles, so at least a quarter must.
+        assert!(same_quad * 4 >= pairs, "{same_quad} of {pairs} horizontal neighbours share a quad of cells");
+        // And the rows-and-no-coherence form is the pixel's own Z-order position.
+        assert_eq!(coherent_pixel((5, 3), 100, 1, 32, 0, true).1, 0b11011);
+        assert_eq!(coherent_pixel((300, 2), 600, 1, 32, 0, true).1, (1 << ZSOBOL_CELL_BITS) | 0b100_0101_1000);
     }
 
     #[test]
     fn rows_and_no_coherence_keep_the_earlier_keys() {
-        assert_eq!(coherent_pixel((13, 2), 20, 1, 32, 0), ((13, 2), 2 * 20 + 13));
-        assert_eq!(coherent_pixel((13, 2), 20, 8, 0, 0), ((13, 2), 2 * 3 + 1));
+        assert_eq!(coherent_pixel((13, 2), 20, 1, 32, 0, false), ((13, 2), 2 * 20 + 13));
+        assert_eq!(coherent_pixel((13, 2), 20, 8, 0, 0, false), ((13, 2), 2 * 3 + 1));
     }
 
     #[test]

@@ -34,6 +34,9 @@ pub fn path_params(scene: &GpuScene, settings: &PathSettings) -> Result<GpuPathP
     if settings.sample_rate == 0 {
         bail!("sample rate must be positive");
     }
+    if settings.zsobol_log2 > ZSOBOL_MAX_LOG2 {
+        bail!("Z-ordered sample sets of 2^{} spp: at most 2^{ZSOBOL_MAX_LOG2}", settings.zsobol_log2);
+    }
     if settings.coherence == 0 {
         bail!("coherence must be at least 1 (pixels that share sample numbers)");
     }
@@ -48,7 +51,7 @@ pub fn path_params(scene: &GpuScene, settings: &PathSettings) -> Result<GpuPathP
         coherence: settings.coherence,
         adaptive: if settings.adaptive { BlockGrid::new(settings.image.width, settings.image.height, settings.coherence).block } else { 0 },
         coherence_block_bits: super::coherence::block_bits(settings.coherence, settings.coherence_block),
-        _pad1: 0,
+        zsobol_log2: settings.zsobol_log2,
         _pad2: 0,
     })
 }
