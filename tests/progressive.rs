@@ -33,7 +33,11 @@ fn render(settings: &PathSettings, resume: Option<Accumulation>) -> Accumulation
 #[test]
 fn resuming_continues_the_same_samples_bit_for_bit() {
     let straight = render(&common::path_settings(32, 32, 8), None);
-    let half = render(&common::path_settings(32, 32, 4), None);
+    // The 8-spp run stopped after 4 (interrupted): the Z-ordered sampler's sets are the run's
+    // spp (`PathSettings::zsobol_log2`), so the first half belongs to the same run.
+    let mut first = common::path_settings(32, 32, 8);
+    first.stop.spp = Some(4);
+    let half = render(&first, None);
     assert_eq!(half.samples, 4);
     let resumed = render(&common::path_settings(32, 32, 8), Some(half));
     assert_eq!(resumed.samples, 8);
@@ -49,6 +53,8 @@ fn adaptive_runs_resume_bit_for_bit() {
         s.adaptive = true;
         s.coherence = 8;
         s.coherence_block = 0;
+        // All parts of one 24-spp run: the Z-ordered sampler's sets are the run's spp.
+        s.zsobol_log2 = vkrt::integrator::path::zsobol_log2(Some(24));
         s
     };
     let straight = render(&settings(24), None);
