@@ -12,6 +12,7 @@
 //! The order changes nothing but speed: every ray's hit is a function of that ray alone, and
 //! the hits go back in the caller's order (tests/ray_order.rs checks it bit for bit).
 
+use crate::geom::morton::spread2;
 use crate::gpu_abi::GpuRay;
 
 /// When to reorder a batch before tracing it.
@@ -51,15 +52,6 @@ fn spread3(x: u32) -> u32 {
     x = (x | (x << 8)) & 0x0300_f00f;
     x = (x | (x << 4)) & 0x030c_30c3;
     (x | (x << 2)) & 0x0924_9249
-}
-
-/// Bit i of `x` (below 2^16) moved to bit 2i: one axis of a 2D Morton code.
-fn spread2(x: u32) -> u32 {
-    let mut x = x & 0xffff;
-    x = (x | (x << 8)) & 0x00ff_00ff;
-    x = (x | (x << 4)) & 0x0f0f_0f0f;
-    x = (x | (x << 2)) & 0x3333_3333;
-    (x | (x << 1)) & 0x5555_5555
 }
 
 /// Cell index in [0, 2^bits) of `x` in [0, 1]; NaN goes to cell 0.

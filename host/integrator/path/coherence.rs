@@ -16,6 +16,7 @@
 //! [`coherent_pixel`] is the CPU twin of shaders/include/sampler.glsl's `coherent_pixel`: the
 //! tests use it to find the pixels whose errors must be correlated.
 
+use crate::geom::morton::{compact2, spread2};
 use crate::gpu_abi::constants::ZSOBOL_CELL_BITS;
 use anyhow::{bail, Result};
 
@@ -78,24 +79,6 @@ fn row_key(slot: (u32, u32), width: u32, coherence: u32) -> u32 {
     slot.1 * width.div_ceil(c) + slot.0 / c
 }
 
-/// The even-numbered bits of `x`, packed (sampler.glsl's `morton_compact`).
-fn morton_compact(x: u32) -> u32 {
-    let mut x = x & 0x5555_5555;
-    x = (x | (x >> 1)) & 0x3333_3333;
-    x = (x | (x >> 2)) & 0x0f0f_0f0f;
-    x = (x | (x >> 4)) & 0x00ff_00ff;
-    (x | (x >> 8)) & 0x0000_ffff
-}
-
-/// `x`'s low 16 bits spread to the even-numbered bits (sampler.glsl's `morton_spread`).
-fn morton_spread(x: u32) -> u32 {
-    let mut x = x & 0x0000_ffff;
-    x = (x | (x << 8)) & 0x00ff_00ff;
-    x = (x | (x << 4)) & 0x0f0f_0f0f;
-    x = (x | (x << 2)) & 0x3333_3333;
-    (x | (x << 1)) & 0x5555_5555
-}
-
 /// The pixel invocation `slot` (tile origin plus global invocation id) renders, and the key of
 /// the sample numbers it draws; `seed` is the render's seed, `zordered` true for the Z-ordered
 /// sampler (whose groups are dealt in Z order, sampler.glsl's `coherent_pixel` says how). The
@@ -111,7 +94,7 @@ pub fn coherent_pixel(slot: (u32, u32), width: u32, coherence: u32, block: u32, 
         let g = (slot.0 / c, slot.1);
         let tiles_per_row = (width.div_ceil(c) + 255) >> 8;
         let tile = (g.1 >> 8) * tiles_per_row + (g.0 >> 8);
-        return (slot, (tile << ZSOBOL_CELL_BITS) | morton_spread(g.0 & 255) | (morton_spread(g.1 & 255) << 1));
+        return (slot, (tile << ZSOBOL_CELL_BITS) | spread2(g.0 & 255) | (spread2(g.1 & 255) << 1));
     }
     let side = 1u32 << bits;
     let mask = side - 1;
@@ -126,8 +109,8 @@ pub fn coherent_pixel(slot: (u32, u32), width: u32, coherence: u32, block: u32, 
         let (kx, ky) = (k / 2, k - k / 2);
         let (w, h) = (side >> kx, side >> ky);
         let roll = hash_pcg(block_seed ^ member.wrapping_mul(0x9e3779b9));
-        let x = morton_compact(group).wrapping_add(roll) & (w - 1);
-        let y = morton_compact(group >> 1).wrapping_add(roll >> 16) & (h - 1);
+        let x = compact2(group).wrapping_add(roll) & (w - 1);
+        let y = compact2(group >> 1).wrapping_add(roll >> 16) & (h - 1);
         let key = (block_index << ZSOBOL_CELL_BITS) | group;
         return (((bx << bits) + (member & ((1 << kx) - 1)) * w + x, (by << bits) + (member >> kx) * h + y), key);
     }
