@@ -84,12 +84,12 @@ impl LightTable {
 fn alias_table(weights: &[f64], total: f64) -> Vec<GpuLightPick> {
     let n = weights.len();
     if n == 0 || total <= 0.0 {
-        return weights.iter().map(|_| GpuLightPick { pmf: 0.0, alias: 0, threshold: 1.0, _pad0: 0 }).collect();
+        return weights.iter().map(|_| GpuLightPick { pmf: 0.0, alias: 0, threshold: 1.0, alias_pmf: 0.0 }).collect();
     }
     // Scaled so that the average entry is 1.
     let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
     let mut picks: Vec<GpuLightPick> = (0..n)
-        .map(|i| GpuLightPick { pmf: (weights[i] / total) as f32, alias: i as u32, threshold: 1.0, _pad0: 0 })
+        .map(|i| GpuLightPick { pmf: (weights[i] / total) as f32, alias: i as u32, threshold: 1.0, alias_pmf: 0.0 })
         .collect();
     let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| scaled[i] < 1.0);
     while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
@@ -105,6 +105,9 @@ fn alias_table(weights: &[f64], total: f64) -> Vec<GpuLightPick> {
     // What is left is 1 up to rounding: those entries always keep themselves.
     for i in small.into_iter().chain(large) {
         picks[i].threshold = 1.0;
+    }
+    for i in 0..n {
+        picks[i].alias_pmf = picks[picks[i].alias as usize].pmf;
     }
     picks
 }
@@ -133,7 +136,10 @@ mod tests {
             let want = weights[i] / total;
             assert!((p - want).abs() < 1e-6, "entry {i}: picked with {p}, weight says {want}");
             assert!((picks[i].pmf as f64 - want).abs() < 1e-6, "entry {i}: pmf {}", picks[i].pmf);
+            // The shader reads the alias's pmf from the entry it landed on.
+            assert_eq!(picks[i].alias_pmf, picks[picks[i].alias as usize].pmf, "entry {i}: alias_pmf");
         }
+        assert!(picks.iter().any(|p| p.threshold < 1.0), "no entry uses its alias: the check above is empty");
     }
 
     #[test]

@@ -187,7 +187,7 @@ struct GpuLightPick {
     float pmf;
     uint alias;
     float threshold;
-    uint _pad0;
+    float alias_pmf;
 };
 
 struct GpuPathParams {

@@ -26,12 +26,13 @@ uint pick_light(inout float u, out float pmf) {
     if (f < e.threshold) {
         j = i;
         u = f / e.threshold;
+        pmf = e.pmf;
     } else {
         j = e.alias;
         u = (f - e.threshold) / (1.0 - e.threshold);
+        pmf = e.alias_pmf;
     }
     u = min(u, ONE_MINUS_EPSILON);
-    pmf = load_light_pick(j).pmf;
     return j;
 }
 

@@ -25,10 +25,10 @@ layout(std430, set = 0, binding = BINDING_RAY_COUNTS) buffer RayCounts { uint ra
 // scene arrays (scene_bindings.glsl says why).
 layout(set = 0, binding = BINDING_LIGHT_PICKS) uniform utextureBuffer light_pick_texels;
 
-// 16 B: pmf, alias, threshold, pad.
+// 16 B: pmf, alias, threshold, alias_pmf.
 GpuLightPick load_light_pick(uint i) {
     uvec4 a = texelFetch(light_pick_texels, int(i));
-    return GpuLightPick(uintBitsToFloat(a.x), a.y, uintBitsToFloat(a.z), 0u);
+    return GpuLightPick(uintBitsToFloat(a.x), a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w));
 }
 #endif
 
