@@ -372,12 +372,13 @@ def main():
     if flip_hdr(args.reference, args.reference) is None:
         print("flip-evaluator or mitsuba not installed (pip install flip-evaluator mitsuba): no FLIP column", file=sys.stderr)
     best = {}  # (renderer, spp) -> [seconds, relMSE, FLIP], in first-run order
+    fmt = lambda x: "-" if x is None else f"{x:.4f}"
 
     def record(r, renderer, label, spp, secs, rel, flip):
         """Keeps the shortest time of (renderer, spp) and prints the round's row."""
         key = (renderer, spp)
         best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
-        print(f"round {r + 1}: {label} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.4f} FLIP {flip}", flush=True)
+        print(f"round {r + 1}: {label} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.3e} FLIP {fmt(flip)}", flush=True)
 
     # Every spp of a round runs each vkrt configuration and then Mitsuba, one after the other,
     # so that a swing of the machine's speed (minutes long here) falls on both sides alike.
@@ -407,13 +408,12 @@ def main():
         w = csv.writer(f)
         w.writerow(["renderer", "spp", "seconds", "relmse", "relmse_x_seconds", "flip_hdr"])
         for r in rows:
-            w.writerow([r[0], r[1], f"{r[2]:.4f}", f"{r[3]:.6e}", f"{r[2] * r[3]:.5f}", "" if r[4] is None else f"{r[4]:.5f}"])
+            w.writerow([r[0], r[1], f"{r[2]:.4f}", f"{r[3]:.6e}", f"{r[2] * r[3]:.4e}", "" if r[4] is None else f"{r[4]:.5f}"])
     print(f"wrote {csv_path}")
 
-    fmt = lambda x: "-" if x is None else f"{x:.4f}"
     print(f"\n{args.machine}\n\n| renderer | spp | seconds | relMSE | relMSE x s | HDR-FLIP |\n|---|---:|---:|---:|---:|---:|")
     for r in rows:
-        print(f"| {r[0]} | {r[1]} | {r[2]:.2f} | {r[3]:.3e} | {r[2] * r[3]:.4f} | {fmt(r[4])} |")
+        print(f"| {r[0]} | {r[1]} | {r[2]:.2f} | {r[3]:.3e} | {r[2] * r[3]:.3e} | {fmt(r[4])} |")
 
     plot(rows, args)
 
