@@ -160,12 +160,13 @@ fn group_mates_draw_the_same_numbers(sampler: SamplerKind) {
     settings.nee = false;
     settings.image.seed = 3;
     settings.sampler = sampler;
-    assert_eq!((settings.coherence, settings.coherence_block), (8, 32), "the defaults");
+    let (c, block) = (settings.coherence, settings.coherence_block);
+    assert_eq!((c, block), (8, vkrt::integrator::path::coherence::DEFAULT_COHERENCE_BLOCK), "the defaults");
     let image = common::render_path(&scene, &settings).image();
     let mut groups = std::collections::BTreeMap::<u32, Vec<(u32, u32)>>::new();
-    for y in 0..h.next_multiple_of(32) {
-        for x in 0..w.next_multiple_of(32) {
-            let (p, key) = coherent_pixel((x, y), w, 8, 32, settings.image.seed, sampler == SamplerKind::Zsobol);
+    for y in 0..h.next_multiple_of(block) {
+        for x in 0..w.next_multiple_of(block) {
+            let (p, key) = coherent_pixel((x, y), w, c, block, settings.image.seed, sampler == SamplerKind::Zsobol);
             if p.0 < w && p.1 < h {
                 groups.entry(key).or_default().push(p);
             }

@@ -67,9 +67,10 @@ pub struct PathArgs {
     #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
     pub coherence: Option<u32>,
     /// Path tracer: the side of the square over which each --coherence group's pixels are
-    /// scattered at random [default: 32], so that their correlated errors lie far apart and
-    /// the noise shows no structure; a power of two from 8 to 256. 0: the group is N pixels in
-    /// a row (about 0.75x the time, but the noise shows as short horizontal streaks).
+    /// spread [default: 16] (in Z order with --sampler zsobol, at random with the others), so
+    /// that their correlated errors lie apart and the noise shows no structure; a power of two
+    /// from 8 to 256. 0: the group is N pixels in a row (less time, but the noise shows as
+    /// short horizontal streaks).
     #[arg(long, value_name = "B")]
     pub coherence_block: Option<u32>,
     /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels in

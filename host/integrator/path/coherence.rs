@@ -8,10 +8,11 @@
 //! (its own Owen-scrambled sequence), so the expected error per pixel is too; what changes is
 //! that the errors of the pixels sharing numbers are correlated. In a row (block 0, the earlier
 //! form) they show as horizontal streaks. Scattered over a block (the default) the group's
-//! pixels are dealt at random over a 32 x 32 square, so correlated errors are far apart and the
-//! noise looks like independent noise: the same relMSE, and HDR-FLIP 1.8-2.4 % above
-//! uncorrelated sampling at equal spp, at 0.6-0.7x the time (docs/experiments/
-//! scattered-coherence.md).
+//! pixels are spread over a 16 x 16 square (in Z order with the default sampler, at random with
+//! the others), so correlated errors are apart and the noise looks like independent noise:
+//! with the Z-ordered sampler relMSE +2-3 % and HDR-FLIP +3-4 % against no shared numbers at
+//! equal spp, at 0.55-0.56x the time (docs/experiments/zsobol-blue-noise.md; with `sobol`
+//! over 32 x 32 squares: docs/experiments/scattered-coherence.md).
 //!
 //! [`coherent_pixel`] is the CPU twin of shaders/include/sampler.glsl's `coherent_pixel`: the
 //! tests use it to find the pixels whose errors must be correlated.
@@ -23,9 +24,12 @@ use anyhow::{bail, Result};
 /// Pixels that draw the same sample numbers by default: one row of the 8-wide image workgroup,
 /// all of lavapipe's 8 lanes (`gpu::workgroups`); on wider subgroups several groups share one.
 pub const DEFAULT_COHERENCE: u32 = 8;
-/// The side of the square over which a group's pixels are scattered by default: 32 measured
-/// the best balance (16: 0.9x the time, FLIP +7 %; 64: 1.15x the time, FLIP +0 %).
-pub const DEFAULT_COHERENCE_BLOCK: u32 = 32;
+/// The side of the square over which a group's pixels are spread by default. With the
+/// Z-ordered sampler 16 wins on both metrics at equal time on three Cornell boxes: against 32,
+/// 0.81-0.89x the time for +0-2 % FLIP at equal spp (8: 0.73-0.75x the time but FLIP +10 %,
+/// blotchy; docs/experiments/zsobol-blue-noise.md). (With `sobol`'s random dealing 16 cost
+/// FLIP +7 % against 32: docs/experiments/scattered-coherence.md.)
+pub const DEFAULT_COHERENCE_BLOCK: u32 = 16;
 /// The largest block side (the dispatch covers whole blocks: tiles are cut to multiples of it).
 pub const MAX_COHERENCE_BLOCK: u32 = 256;
 

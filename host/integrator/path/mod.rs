@@ -92,7 +92,7 @@ pub struct PathSettings {
     /// correlated ([`coherence`] says where that shows).
     pub coherence: u32,
     /// The side of the square block over which each coherence group's pixels are scattered
-    /// (default 32, [`coherence::DEFAULT_COHERENCE_BLOCK`]): correlated errors far apart, so
+    /// (default 16, [`coherence::DEFAULT_COHERENCE_BLOCK`]): correlated errors apart, so
     /// the noise shows no structure. 0: the group is `coherence` pixels in a row, whose
     /// correlated errors show as short horizontal streaks (docs/experiments/
     /// coherent-sampling.md), about 0.75x the time of a 32 block.
