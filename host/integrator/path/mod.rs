@@ -87,9 +87,11 @@ pub struct PathSettings {
     /// 1: each pixel its own). Coherent path tracing (Sadeghi, Chen & Jensen 2009, "Coherent
     /// path tracing", JGT 14(2)): lavapipe's eight lanes (one row of a workgroup) take the same
     /// bounce, light and roulette decisions, so their rays stay coherent and their paths end
-    /// together: 0.6-0.7x the time per sample. Each pixel's estimate is distributed as
-    /// before, so the expected error per pixel is the same; the errors of a group's pixels are
-    /// correlated ([`coherence`] says where that shows).
+    /// together: about 0.55x the time per sample on cornell-measured (the default block and
+    /// sampler; less on the Mirror and Sphere boxes, docs/experiments/three-box-ladder.md).
+    /// Each pixel's estimate is distributed as before, so the expected error per pixel is the
+    /// same; the errors of a group's pixels are correlated ([`coherence`] says where that
+    /// shows).
     pub coherence: u32,
     /// The side of the square block over which each coherence group's pixels are scattered
     /// (default 16, [`coherence::DEFAULT_COHERENCE_BLOCK`]): correlated errors apart, so
