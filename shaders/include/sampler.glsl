@@ -162,7 +162,7 @@ Sampler sampler_init(uint kind, uint key, uint sample_index, uint seed, uint sam
     s.sample_rate = max(sample_rate, 1u);
     s.rng = rng_init(key, sample_index, seed);
     if (kind == SAMPLER_ZSOBOL) {
-        uint set = zsobol_log2 >= 32u ? 0u : sample_index >> zsobol_log2;
+        uint set = sample_index >> zsobol_log2;
         uint j = sample_index & ((1u << zsobol_log2) - 1u);
         s.index = ((key & ((1u << ZSOBOL_CELL_BITS) - 1u)) << zsobol_log2) | j;
         s.pixel_seed = hash_pcg((key >> ZSOBOL_CELL_BITS) ^ hash_pcg(set ^ hash_pcg(seed ^ 0x2c1b3c6du)));

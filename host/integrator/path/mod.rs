@@ -79,7 +79,7 @@ pub struct PathSettings {
     /// The Z-ordered sampler's set size, log2 of samples per pixel ([`zsobol_log2`] of the
     /// run's total spp): the blue-noise property holds for a set as a whole, so it must be
     /// the run's sample count rounded up to a power of two; samples past it start new sets.
-    /// Part of what a checkpoint must match.
+    /// A checkpoint stores it, and a resumed run keeps it.
     pub zsobol_log2: u32,
     /// Next-event estimation with MIS (default); false: BSDF sampling only, for tests.
     pub nee: bool,
