@@ -191,3 +191,25 @@ fn the_sums_do_not_depend_on_how_workgroups_are_dealt_to_tiles() {
         assert!(tiled.even == whole.even && tiled.odd == whole.odd, "coherence {coherence}/{block}: 64-pixel tiles and one tile differ");
     }
 }
+
+/// Batches that grow from measured batch times (`integrator::path::batch`, what `vkrt render`
+/// does by default) take the same samples as one sample per batch: the same bytes. On this
+/// small, cheap image the batches must actually grow (fewer submissions than samples), or
+/// the comparison would test nothing.
+#[test]
+fn grown_batches_give_the_same_sums_as_single_sample_batches() {
+    let scene = cornell();
+    let ctx = common::gpu_context();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: vkrt::bvh::BuilderKind::Sah, ..Default::default() }).unwrap();
+    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+    let mut settings = common::path_settings(24, 24, 40);
+    settings.image.samples_per_batch = 1;
+    let (single, single_stats) = path::render(&ctx, &gpu, &settings, None, &mut Hooks::default()).unwrap();
+    settings.grow_batches = true;
+    let (grown, grown_stats) = path::render(&ctx, &gpu, &settings, None, &mut Hooks::default()).unwrap();
+    assert_eq!((single.samples, grown.samples), (40, 40));
+    assert_eq!(single_stats.submissions, 40, "one submission per sample (one tile)");
+    assert!(grown_stats.submissions < 20, "batches did not grow: {} submissions for 40 spp", grown_stats.submissions);
+    assert!(single.even == grown.even && single.odd == grown.odd && single.counts == grown.counts, "grown batches changed the sums");
+    common::assert_no_validation_messages(&ctx);
+}

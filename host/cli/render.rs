@@ -516,6 +516,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(CacheOutcome::NotStored { why }) => say.line(&format!("warning: prepared-scene cache: {why}")),
         _ => {}
     }
+    if args.verbose {
+        // The path tracer's batches grow on cheap scenes (integrator::path::batch): this shows how far.
+        eprintln!("{} submissions to the device", stats.submissions);
+    }
     let what = match (integrator, relmse) {
         (IntegratorKind::Whitted, _) => format!("{} spp, depth {}", args.spp.unwrap_or(1), args.max_depth.unwrap_or(WHITTED_DEFAULT_DEPTH)),
         (IntegratorKind::Path, est) => {

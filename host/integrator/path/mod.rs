@@ -5,6 +5,7 @@
 
 pub mod accumulation;
 pub mod adaptive;
+pub mod batch;
 pub mod checkpoint;
 pub mod coherence;
 pub mod params;
@@ -105,6 +106,11 @@ pub struct PathSettings {
     /// Not with scattered coherence: a block's noise estimate reads its neighbours, and those
     /// must not share sample numbers with it (coherence 1, or `coherence_block` 0).
     pub adaptive: bool,
+    /// Batches grow from `image.samples_per_batch` while a tile's submission and the whole
+    /// batch stay short ([`batch`]; what `vkrt render` does unless `--samples-per-batch` is
+    /// given); false (the default here): every batch takes `image.samples_per_batch`.
+    /// Images are the same bytes either way.
+    pub grow_batches: bool,
     pub stop: Stop,
     /// The sample index this run starts at (0; a shard's first index, `super::shard`): its
     /// samples are `first_sample ..`, `stop.spp` of them.
@@ -137,6 +143,7 @@ impl Default for PathSettings {
             coherence: coherence::DEFAULT_COHERENCE,
             coherence_block: coherence::DEFAULT_COHERENCE_BLOCK,
             adaptive: false,
+            grow_batches: false,
             stop: Stop { spp: Some(16), ..Stop::default() },
             first_sample: 0,
         }

@@ -5,6 +5,7 @@
 
 use super::accumulation::{even_indices, Accumulation};
 use super::adaptive::{block_rates, BlockGrid, PILOT_SPP};
+use super::batch::BatchSizer;
 use super::params::{path_params, PATH_BINDINGS};
 use super::progress::{Hooks, PathProgress};
 use super::schedule::{check_block_batch, uniform_batch, AdaptiveState};
@@ -186,7 +187,12 @@ pub fn render(
     let gpu = PathGpu::new(ctx, scene, settings, &acc, if settings.adaptive { grid.count() } else { 1 })?;
     let mut stats = RenderStats::default();
     let pixels = img.width as u64 * img.height as u64;
-    let batch = img.samples_per_batch.max(1) as u64;
+    // Adaptive runs use the size for their pilot only: then each block's rate decides.
+    let mut sizer = if settings.grow_batches && !settings.adaptive {
+        BatchSizer::growing(img.samples_per_batch)
+    } else {
+        BatchSizer::fixed(img.samples_per_batch)
+    };
     let empty = scene.bvh.triangle_count == 0;
     let mut run = RunState { samples: acc.samples, first_sample: acc.samples, ..RunState::default() };
     let (mut last_estimate, mut last_checkpoint, mut last_snapshot) = (start, start, start);
@@ -202,6 +208,8 @@ pub fn render(
             break;
         }
         let t_batch = Instant::now();
+        let (submissions_before, samples_before) = (stats.submissions, run.samples);
+        let batch = sizer.spp();
         let mut dispatch = |base: u32, count: u32| -> Result<()> {
             if empty {
                 return Ok(());
@@ -228,7 +236,12 @@ pub fn render(
             dispatch((settings.first_sample + run.samples) as u32, count as u32)?;
             run.samples += count;
         }
-        run.last_batch_s = t_batch.elapsed().as_secs_f64();
+        let batch_s = t_batch.elapsed().as_secs_f64();
+        let taken = run.samples - samples_before;
+        let seconds_left = stop.seconds.map(|t| t - start.elapsed().as_secs_f64());
+        sizer.observe(taken, u64::from(stats.submissions - submissions_before), batch_s, seconds_left);
+        // The next batch's time, from this one's per sample (the stop rule's time limit).
+        run.next_batch_s = if taken > 0 { batch_s * sizer.spp() as f64 / taken as f64 } else { batch_s };
         let now = Instant::now();
         let want_estimate = stop.target_relmse.is_some() || hooks.checkpoint.is_some() || hooks.progress.is_some();
         let interval = ESTIMATE_INTERVAL_S.max(read_s / ESTIMATE_TIME_SHARE);

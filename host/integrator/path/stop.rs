@@ -24,8 +24,9 @@ pub struct RunState {
     pub first_sample: u64,
     /// Seconds since this run started.
     pub seconds: f64,
-    /// Seconds the last batch took: no batch starts that would end past `Stop::seconds`.
-    pub last_batch_s: f64,
+    /// Seconds the next batch is expected to take (the last one's per sample, times the next
+    /// one's samples): no batch starts that would end past `Stop::seconds`.
+    pub next_batch_s: f64,
     /// The last estimate of the image's relMSE, if any.
     pub relmse: Option<f64>,
 }
@@ -35,7 +36,7 @@ impl Stop {
     /// run makes progress.
     pub fn holds(&self, run: &RunState) -> bool {
         let spp = self.spp.is_some_and(|n| run.samples >= n);
-        let time = self.seconds.is_some_and(|t| run.samples > run.first_sample && run.seconds + run.last_batch_s > t);
+        let time = self.seconds.is_some_and(|t| run.samples > run.first_sample && run.seconds + run.next_batch_s > t);
         let error = self
             .target_relmse
             .is_some_and(|t| run.samples >= MIN_SAMPLES_FOR_ESTIMATE && run.relmse.is_some_and(|e| e <= t));
@@ -63,8 +64,8 @@ impl Stop {
 mod tests {
     use super::*;
 
-    fn at(samples: u64, seconds: f64, last_batch_s: f64, relmse: Option<f64>) -> RunState {
-        RunState { samples, first_sample: 0, seconds, last_batch_s, relmse }
+    fn at(samples: u64, seconds: f64, next_batch_s: f64, relmse: Option<f64>) -> RunState {
+        RunState { samples, first_sample: 0, seconds, next_batch_s, relmse }
     }
 
     #[test]
@@ -75,7 +76,7 @@ mod tests {
         let time = Stop { seconds: Some(10.0), ..Stop::default() };
         assert!(!time.holds(&at(4, 8.0, 1.5, None)));
         assert!(time.holds(&at(4, 8.0, 2.5, None)));
-        assert!(!time.holds(&RunState { samples: 4, first_sample: 4, seconds: 20.0, last_batch_s: 0.0, relmse: None }));
+        assert!(!time.holds(&RunState { samples: 4, first_sample: 4, seconds: 20.0, next_batch_s: 0.0, relmse: None }));
         let error = Stop { target_relmse: Some(0.01), ..Stop::default() };
         assert!(!error.holds(&at(2, 0.0, 0.0, Some(0.001))), "trusted an estimate from too few samples");
         assert!(!error.holds(&at(8, 0.0, 0.0, Some(0.02))) && error.holds(&at(8, 0.0, 0.0, Some(0.01))));
