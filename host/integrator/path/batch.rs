@@ -68,7 +68,7 @@ impl BatchSizer {
 /// run, which they are in expectation: every batch draws the same kind of paths.
 pub fn grown_batch(current: u32, first: u32, spp: u64, submissions: u64, seconds: f64, seconds_left: Option<f64>) -> u32 {
     let ceiling = current.saturating_mul(2).min(MAX_GROWN_BATCH_SPP).max(first);
-    if spp == 0 || !(seconds > 0.0) {
+    if spp == 0 || seconds.is_nan() || seconds <= 0.0 {
         // Nothing measured (an empty scene renders nothing): no reason to hold back.
         return ceiling;
     }
