@@ -236,6 +236,11 @@ pub fn render(
             dispatch((settings.first_sample + run.samples) as u32, count as u32)?;
             run.samples += count;
         }
+        // The batch's own time, not the time to queue it: with submissions in flight the queueing
+        // ends before the last tiles run, and growing batches or a time limit would then
+        // be planned from a time that is too short (--time 1 ran 1.36 s). One wait per batch
+        // leaves the device idle only while the next batch's first tile is recorded.
+        ctx.drain().context("waiting for the batch")?;
         let batch_s = t_batch.elapsed().as_secs_f64();
         let taken = run.samples - samples_before;
         let seconds_left = stop.seconds.map(|t| t - start.elapsed().as_secs_f64());
