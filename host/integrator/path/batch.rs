@@ -62,9 +62,10 @@ impl BatchSizer {
 /// The next batch size after a batch of `spp` samples per pixel in `submissions` submissions
 /// took `seconds`, given the current size `current` and the least size `first`: as many samples
 /// as keep one submission under [`SUBMISSION_TARGET_S`], the batch under [`BATCH_TARGET_S`] and
-/// within `seconds_left` of a time limit, at most double the current size (the first batch's
-/// time can include start-up work or read short while submissions are still in flight) and at
-/// most [`MAX_GROWN_BATCH_SPP`]; never below `first`. Sample costs are taken as constant over a
+/// within `seconds_left` of a time limit, at most double the current size (one batch's time is
+/// one measurement, and the first can include start-up work) and at most
+/// [`MAX_GROWN_BATCH_SPP`]; never below `first`. `seconds` must be the batch's own time, its
+/// submissions waited for (`render` drains before timing). Sample costs are taken as constant over a
 /// run, which they are in expectation: every batch draws the same kind of paths.
 pub fn grown_batch(current: u32, first: u32, spp: u64, submissions: u64, seconds: f64, seconds_left: Option<f64>) -> u32 {
     let ceiling = current.saturating_mul(2).min(MAX_GROWN_BATCH_SPP).max(first);
