@@ -124,6 +124,16 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
     return result;
 }
 
+// The adaptive allocation block of `pixel` (integrator::path::adaptive::BlockGrid): with
+// scattered coherence the square its group is dealt over, else its run of params.adaptive
+// pixels in a row. Blocks are whole coherence blocks, so no two share sample numbers.
+uint adaptive_block_key(uvec2 pixel) {
+    uint bits = params.coherence_block_bits;
+    if (bits == 0u) return sample_key(pixel, frame.width, params.adaptive);
+    uint per_row = (frame.width + (1u << bits) - 1u) >> bits;
+    return (pixel.y >> bits) * per_row + (pixel.x >> bits);
+}
+
 void main() {
     uvec2 slot = tile_slot();
     uint key;
@@ -133,7 +143,7 @@ void main() {
     uint index = pixel.y * frame.width + pixel.x;
     uvec2 samples = uvec2(push.sample_base, push.sample_count);
     // Adaptive: the block's own range; blocks are whole coherence blocks, keyed alike.
-    if (params.adaptive != 0u) samples = block_samples[sample_key(pixel, frame.width, params.adaptive)];
+    if (params.adaptive != 0u) samples = block_samples[adaptive_block_key(pixel)];
     Fixed3 even = fixed3_zero();
     Fixed3 odd = fixed3_zero();
     uint dropped = 0u;

@@ -45,14 +45,17 @@ fn resuming_continues_the_same_samples_bit_for_bit() {
 }
 
 /// An adaptive run resumed inside its pilot and after it takes the very same samples as one
-/// run straight through (the rates travel in the sums, and each block goes on from its own count).
-#[test]
-fn adaptive_runs_resume_bit_for_bit() {
+/// run straight through (the rates travel in the sums, and each block goes on from its own
+/// count), with blocks in rows (`coherence_block` 0) and with the coherence squares, on an image
+/// whose edges cut squares; every pixel of a host block took its block's count, so the shader's
+/// block keys are the host's.
+fn adaptive_run_resumes_bit_for_bit(width: u32, height: u32, coherence_block: u32) {
+    use vkrt::integrator::path::adaptive::BlockGrid;
     let settings = |spp: u64| {
-        let mut s = common::path_settings(32, 32, spp);
+        let mut s = common::path_settings(width, height, spp);
         s.adaptive = true;
         s.coherence = 8;
-        s.coherence_block = 0;
+        s.coherence_block = coherence_block;
         // All parts of one 24-spp run: the Z-ordered sampler's sets are the run's spp.
         s.zsobol_log2 = vkrt::integrator::path::zsobol_log2(Some(24));
         s
@@ -62,6 +65,17 @@ fn adaptive_runs_resume_bit_for_bit() {
     let counts: Vec<u64> = (0..straight.even.len()).map(|p| straight.counts(p).0).collect();
     assert!(counts.iter().any(|&n| n != counts[0]), "every pixel took the same count: nothing adapted");
     assert!(counts.iter().all(|&n| n >= 8 && n % 2 == 0), "a pixel missed its pilot or has an odd count");
+    let grid = BlockGrid::new(width, height, 8, coherence_block);
+    assert_eq!(straight.rates.len(), grid.count());
+    for key in 0..grid.count() {
+        let b = grid.pixels(key);
+        let first = counts[(b.ys.start * width + b.xs.start) as usize];
+        for y in b.ys.clone() {
+            for x in b.xs.clone() {
+                assert_eq!(counts[(y * width + x) as usize], first, "pixel ({x}, {y}) of block {key} took another count");
+            }
+        }
+    }
     let in_pilot = render(&settings(8), None);
     assert!(in_pilot.rates.is_empty() || (0..in_pilot.even.len()).all(|p| in_pilot.counts(p).0 == 8));
     let resumed = render(&settings(24), Some(in_pilot));
@@ -69,7 +83,19 @@ fn adaptive_runs_resume_bit_for_bit() {
     let past_pilot = render(&settings(16), None);
     let resumed = render(&settings(24), Some(past_pilot));
     assert!(resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts, "16 + 8 resumed spp differ from 24 in one run");
-    assert!(try_render(&common::path_settings(32, 32, 32), Some(straight)).is_err(), "an adaptive run resumed as a uniform one");
+    assert!(try_render(&common::path_settings(width, height, 32), Some(straight)).is_err(), "an adaptive run resumed as a uniform one");
+}
+
+#[test]
+fn adaptive_runs_in_rows_resume_bit_for_bit() {
+    adaptive_run_resumes_bit_for_bit(32, 32, 0);
+    // Rows that do not fill a square number of rounds: the 16-spp run stops mid-round.
+    adaptive_run_resumes_bit_for_bit(72, 40, 0);
+}
+
+#[test]
+fn adaptive_runs_in_coherence_squares_resume_bit_for_bit() {
+    adaptive_run_resumes_bit_for_bit(72, 40, 16);
 }
 
 /// The stop rules themselves are unit-tested without a clock (integrator::path::stop); here a
@@ -213,3 +239,4 @@ fn grown_batches_give_the_same_sums_as_single_sample_batches() {
     assert!(single.even == grown.even && single.odd == grown.odd && single.counts == grown.counts, "grown batches changed the sums");
     common::assert_no_validation_messages(&ctx);
 }
+

@@ -65,7 +65,7 @@ pub struct PathArgs {
     #[arg(long)]
     pub no_nee: bool,
     /// Path tracer: pixels that draw the same sample numbers (coherent path tracing)
-    /// [default: 8; 1 with --adaptive]. 8 makes lavapipe's SIMD lanes trace alike: about
+    /// [default: 8]. 8 makes lavapipe's SIMD lanes trace alike: about
     /// 0.55x the time (with the default block and sampler) at the same expected error per
     /// pixel. 1: every pixel its own numbers.
     #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
@@ -77,11 +77,11 @@ pub struct PathArgs {
     /// short horizontal streaks).
     #[arg(long, value_name = "B")]
     pub coherence_block: Option<u32>,
-    /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels in
-    /// a row (8, or whole --coherence blocks) takes samples in proportion to the noise the
-    /// pilot showed around it (not in it, which keeps the image unbiased); --spp is then the
-    /// mean over the pixels. Not with scattered coherence (give --coherence-block 0 with
-    /// --coherence N).
+    /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels (a
+    /// --coherence-block square, or with groups in a row 8 pixels or whole groups) takes
+    /// samples in proportion to the noise the pilot showed around it (not in it, which keeps
+    /// the image unbiased); --spp is then the mean over the pixels. Lower relMSE at equal time
+    /// where the noise is uneven (0.73x on a mirror box, 0.95x on others), FLIP 1.5-4.5 % higher.
     #[arg(long)]
     pub adaptive: bool,
     /// Path tracer: rewrite the output image (atomically) every SECONDS while rendering, so an
@@ -172,11 +172,9 @@ pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u
     }
 }
 
-/// `(coherence, coherence_block)`: the flags, else a resumed run's, else the defaults. Adaptive
-/// runs read each block's neighbours, which must not share its numbers: they default to none
-/// shared (scattered coherence is refused with them).
+/// `(coherence, coherence_block)`: the flags, else a resumed run's, else the defaults.
 fn coherence(args: &PathArgs, resumed: Option<&RunSettings>) -> (u32, u32) {
-    let c = args.coherence.or(resumed.map(|r| r.coherence)).unwrap_or(if args.adaptive { 1 } else { DEFAULT_COHERENCE });
+    let c = args.coherence.or(resumed.map(|r| r.coherence)).unwrap_or(DEFAULT_COHERENCE);
     let block = args.coherence_block.or(resumed.map(|r| r.coherence_block)).unwrap_or(DEFAULT_COHERENCE_BLOCK);
     (c, block)
 }
@@ -185,7 +183,7 @@ fn coherence(args: &PathArgs, resumed: Option<&RunSettings>) -> (u32, u32) {
 /// (the render's own check, `path::coherence::check`, run early).
 pub fn check_coherence(args: &PathArgs, resumed: Option<&RunSettings>) -> Result<()> {
     let (c, block) = coherence(args, resumed);
-    path::coherence::check(c, block, args.adaptive)
+    path::coherence::check(c, block)
 }
 
 /// The stop rules: those given, else a resumed run's, else `DEFAULT_PATH_SPP`.

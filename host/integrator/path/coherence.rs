@@ -35,21 +35,15 @@ pub const MAX_COHERENCE_BLOCK: u32 = 256;
 
 /// Fails, naming the flag, unless `coherence` and `block` are a valid pair: `block` 0 (rows)
 /// or a power of two from 8 to [`MAX_COHERENCE_BLOCK`]; with a block, `coherence` a power of
-/// two that fits in one (so that groups are whole runs of slots). An `adaptive` run takes no
-/// scattered groups: its noise estimate reads a block's neighbours, which must not share the
-/// block's numbers (`super::adaptive`).
-pub fn check(coherence: u32, block: u32, adaptive: bool) -> Result<()> {
+/// two that fits in one (so that groups are whole runs of slots). Adaptive sampling takes
+/// either: its blocks are whole coherence blocks (`super::adaptive::BlockGrid`), so a block's
+/// neighbours never share its numbers.
+pub fn check(coherence: u32, block: u32) -> Result<()> {
     if coherence == 0 {
         bail!("--coherence must be at least 1");
     }
     if block == 0 {
         return Ok(());
-    }
-    if adaptive && block_bits(coherence, block) != 0 {
-        bail!(
-            "--adaptive reads each block's neighbours, which scattered coherence (--coherence {coherence} --coherence-block {block}) \
-             lets share its sample numbers: add --coherence-block 0 (groups in a row) or --coherence 1"
-        );
     }
     if !block.is_power_of_two() || !(8..=MAX_COHERENCE_BLOCK).contains(&block) {
         bail!("--coherence-block {block}: must be 0 (groups in a row) or a power of two from 8 to {MAX_COHERENCE_BLOCK}");
@@ -197,11 +191,9 @@ mod tests {
 
     #[test]
     fn bad_pairs_are_refused() {
-        assert!(check(8, 32, false).is_ok() && check(1, 0, false).is_ok() && check(6, 0, false).is_ok());
-        assert!(check(0, 0, false).is_err());
-        assert!(check(8, 24, false).is_err() && check(8, 4, false).is_err() && check(8, 512, false).is_err());
-        assert!(check(6, 32, false).is_err());
-        assert!(check(8, 32, true).is_err(), "adaptive with scattered groups");
-        assert!(check(8, 0, true).is_ok() && check(1, 32, true).is_ok());
+        assert!(check(8, 32).is_ok() && check(1, 0).is_ok() && check(6, 0).is_ok() && check(1, 32).is_ok());
+        assert!(check(0, 0).is_err());
+        assert!(check(8, 24).is_err() && check(8, 4).is_err() && check(8, 512).is_err());
+        assert!(check(6, 32).is_err());
     }
 }

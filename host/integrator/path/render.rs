@@ -177,10 +177,10 @@ pub fn render(
     if settings.adaptive && stop.spp.is_some_and(|n| n < PILOT_SPP as u64) {
         bail!("adaptive sampling needs at least {PILOT_SPP} spp (its uniform pilot); got {}", stop.spp.unwrap_or(0));
     }
-    super::coherence::check(settings.coherence, settings.coherence_block, settings.adaptive)?;
+    super::coherence::check(settings.coherence, settings.coherence_block)?;
     let align = super::coherence::dispatch_alignment(settings.coherence, settings.coherence_block);
     let start = Instant::now();
-    let grid = BlockGrid::new(img.width, img.height, settings.coherence);
+    let grid = BlockGrid::new(img.width, img.height, settings.coherence, settings.coherence_block);
     let mut acc = starting_sums(settings, grid, resume)?;
     let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     // One unused block entry for a uniform run.

@@ -27,8 +27,8 @@ impl AdaptiveState {
     pub fn new(acc: &Accumulation, grid: BlockGrid) -> Self {
         let done: Vec<u32> = (0..grid.count())
             .map(|key| {
-                let (y, cols) = grid.pixels(key);
-                acc.counts((y * grid.width + cols.start) as usize).0 as u32
+                let b = grid.pixels(key);
+                acc.counts((b.ys.start * grid.width + b.xs.start) as usize).0 as u32
             })
             .collect();
         Self { grid, done }
@@ -40,15 +40,15 @@ impl AdaptiveState {
     }
 
     /// Each block's (first sample, count) for the next batch: the pilot in batches of `batch`
-    /// (rounded up to even), then one round of `rates`, cut to what is left of `budget` (total
-    /// samples over all pixels) if given.
+    /// (rounded up to even), then one round of `rates`, cut where a block reaches its count at
+    /// the end of `budget` (total samples over all pixels; `super::adaptive::final_counts`).
     pub fn next_batch(&self, rates: &[u32], batch: u64, budget: Option<u64>) -> Vec<[u32; 2]> {
         let pilot_left = PILOT_SPP.saturating_sub(self.done.iter().copied().min().unwrap_or(PILOT_SPP));
         let counts: Vec<u32> = if pilot_left > 0 {
             let step = (batch.div_ceil(2) * 2).min(pilot_left as u64) as u32;
             self.done.iter().map(|&d| step.min(PILOT_SPP.saturating_sub(d))).collect()
         } else {
-            round_counts(rates, self.grid, budget.map_or(u64::MAX, |b| b.saturating_sub(self.total())))
+            round_counts(rates, &self.done, self.grid, budget)
         };
         self.done.iter().zip(counts).map(|(&d, c)| [d, c]).collect()
     }
