@@ -181,7 +181,8 @@ pub fn block_rates(pilot: &Accumulation, grid: BlockGrid) -> Vec<u32> {
 pub fn final_counts(rates: &[u32], grid: BlockGrid, budget: u64) -> Vec<u32> {
     const GOLDEN: f64 = 0.618_033_988_749_894_9;
     let count_at = |t: f64, k: usize, r: u32| PILOT_SPP + 2 * (f64::from(r) * t / 2.0 + (k as f64 * GOLDEN).fract()).floor() as u32;
-    let total_at = |t: f64| -> u64 { rates.iter().enumerate().map(|(k, &r)| count_at(t, k, r) as u64 * grid.pixels(k).len() as u64).sum() };
+    let sizes: Vec<u64> = (0..rates.len()).map(|k| grid.pixels(k).len() as u64).collect();
+    let total_at = |t: f64| -> u64 { rates.iter().zip(&sizes).enumerate().map(|(k, (&r, &n))| count_at(t, k, r) as u64 * n).sum() };
     let per_round = grid.pixel_samples(rates).max(1);
     // Bisection on t: below `lo` the counts fall short of the budget, at `hi` they reach it.
     let (mut lo, mut hi) = (0.0f64, budget as f64 / per_round as f64 + 1.0);
@@ -198,14 +199,13 @@ pub fn final_counts(rates: &[u32], grid: BlockGrid, budget: u64) -> Vec<u32> {
     rates.iter().enumerate().map(|(k, &r)| count_at(hi, k, r)).collect()
 }
 
-/// The samples each block takes in the next round, having taken `done`: its rate, or without
-/// `budget` (a run stopped by time or error) always its rate; with a `budget` (total samples
-/// over all pixels) at most what brings it to its [`final_counts`]. Even, since rates and
-/// counts are.
-pub fn round_counts(rates: &[u32], done: &[u32], grid: BlockGrid, budget: Option<u64>) -> Vec<u32> {
-    match budget {
+/// The samples each block takes in the next round, having taken `done`: its rate, but at most
+/// what brings it to its count `end` at the end of the run ([`final_counts`]; none for a run
+/// stopped by time or error). Even, since rates and counts are.
+pub fn round_counts(rates: &[u32], done: &[u32], end: Option<&[u32]>) -> Vec<u32> {
+    match end {
         None => rates.to_vec(),
-        Some(b) => final_counts(rates, grid, b).iter().zip(rates).zip(done).map(|((&end, &r), &d)| r.min(end.saturating_sub(d))).collect(),
+        Some(end) => end.iter().zip(rates).zip(done).map(|((&e, &r), &d)| r.min(e.saturating_sub(d))).collect(),
     }
 }
 
@@ -295,15 +295,15 @@ mod tests {
         let rates = vec![4, 12];
         let pilot = vec![PILOT_SPP; 2];
         // 8 px per block: 128 samples the pilot, 128 per round.
-        assert_eq!(round_counts(&rates, &pilot, g, None), rates);
-        assert_eq!(round_counts(&rates, &pilot, g, Some(128 + 1000)), rates);
+        assert_eq!(round_counts(&rates, &pilot, None), rates);
+        assert_eq!(round_counts(&rates, &pilot, Some(&final_counts(&rates, g, 128 + 1000))), rates);
         // Half a round left: about half of each rate, in even counts that reach the budget.
         let end = final_counts(&rates, g, 128 + 64);
         assert!(g.pixel_samples(&end) >= 128 + 64 && g.pixel_samples(&end) <= 128 + 64 + 16, "{end:?}");
         assert!(end[0] <= PILOT_SPP + 4 && end[1] <= PILOT_SPP + 8 && end.iter().all(|c| c % 2 == 0), "{end:?}");
-        let next = round_counts(&rates, &pilot, g, Some(128 + 64));
+        let next = round_counts(&rates, &pilot, Some(&end));
         assert_eq!(next, vec![end[0] - PILOT_SPP, end[1] - PILOT_SPP]);
-        assert_eq!(round_counts(&rates, &end, g, Some(128 + 64)), vec![0, 0]);
+        assert_eq!(round_counts(&rates, &end, Some(&end)), vec![0, 0]);
     }
 
     /// The end of a run depends on its budget alone: stopping at one budget and going on to a
@@ -315,7 +315,7 @@ mod tests {
         let rates: Vec<u32> = (0..g.count()).map(|k| 2 * (1 + (k as u32 * 7) % 16)).collect();
         let pixels = 72 * 40u64;
         let run = |done: &mut Vec<u32>, budget: u64| loop {
-            let next = round_counts(&rates, done, g, Some(budget));
+            let next = round_counts(&rates, done, Some(&final_counts(&rates, g, budget)));
             if next.iter().all(|&c| c == 0) {
                 break;
             }

@@ -2,7 +2,7 @@
 //! or an adaptive run's per-block counts ([`AdaptiveState`], `super::adaptive`).
 
 use super::accumulation::Accumulation;
-use super::adaptive::{round_counts, BlockGrid, PILOT_SPP};
+use super::adaptive::{final_counts, round_counts, BlockGrid, PILOT_SPP};
 use super::Stop;
 use anyhow::{bail, Result};
 
@@ -21,6 +21,9 @@ pub fn uniform_batch(next: u64, batch: u64, stop: &Stop, taken: u64) -> Result<u
 pub struct AdaptiveState {
     pub grid: BlockGrid,
     pub done: Vec<u32>,
+    /// The budget the counts at the end were computed for, and those counts (they depend on
+    /// the rates, fixed once set, and the budget alone).
+    end: Option<(u64, Vec<u32>)>,
 }
 
 impl AdaptiveState {
@@ -31,7 +34,7 @@ impl AdaptiveState {
                 acc.counts((b.ys.start * grid.width + b.xs.start) as usize).0 as u32
             })
             .collect();
-        Self { grid, done }
+        Self { grid, done, end: None }
     }
 
     /// Samples taken over all pixels.
@@ -42,13 +45,19 @@ impl AdaptiveState {
     /// Each block's (first sample, count) for the next batch: the pilot in batches of `batch`
     /// (rounded up to even), then one round of `rates`, cut where a block reaches its count at
     /// the end of `budget` (total samples over all pixels; `super::adaptive::final_counts`).
-    pub fn next_batch(&self, rates: &[u32], batch: u64, budget: Option<u64>) -> Vec<[u32; 2]> {
+    pub fn next_batch(&mut self, rates: &[u32], batch: u64, budget: Option<u64>) -> Vec<[u32; 2]> {
         let pilot_left = PILOT_SPP.saturating_sub(self.done.iter().copied().min().unwrap_or(PILOT_SPP));
         let counts: Vec<u32> = if pilot_left > 0 {
             let step = (batch.div_ceil(2) * 2).min(pilot_left as u64) as u32;
             self.done.iter().map(|&d| step.min(PILOT_SPP.saturating_sub(d))).collect()
         } else {
-            round_counts(rates, &self.done, self.grid, budget)
+            let end = budget.map(|b| {
+                if !matches!(&self.end, Some((cached, counts)) if *cached == b && counts.len() == rates.len()) {
+                    self.end = Some((b, final_counts(rates, self.grid, b)));
+                }
+                self.end.as_ref().map_or(&[][..], |(_, counts)| counts.as_slice())
+            });
+            round_counts(rates, &self.done, end)
         };
         self.done.iter().zip(counts).map(|(&d, c)| [d, c]).collect()
     }
