@@ -130,8 +130,7 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
 uint adaptive_block_key(uvec2 pixel) {
     uint bits = params.coherence_block_bits;
     if (bits == 0u) return sample_key(pixel, frame.width, params.adaptive);
-    uint per_row = (frame.width + (1u << bits) - 1u) >> bits;
-    return (pixel.y >> bits) * per_row + (pixel.x >> bits);
+    return coherence_block_index(pixel, frame.width, bits);
 }
 
 void main() {

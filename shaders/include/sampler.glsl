@@ -79,6 +79,13 @@ uint morton_spread(uint x) {
     return x;
 }
 
+// The row-major index of the 2^block_bits square that pixel (or slot) p lies in, in an image
+// `width` pixels wide: scattered coherence's sampler tile and the adaptive sampler's block.
+uint coherence_block_index(uvec2 p, uint width, uint block_bits) {
+    uint per_row = (width + (1u << block_bits) - 1u) >> block_bits;
+    return (p.y >> block_bits) * per_row + (p.x >> block_bits);
+}
+
 // Scattered coherence (PathSettings::coherence_block = 2^block_bits > 0, coherence > 1): each
 // run of `coherence` slots (one row of lanes of the 8-wide workgroup) draws the same sample
 // numbers, and its pixels lie scattered over the block, so the lanes trace alike (same light,
@@ -113,7 +120,7 @@ uvec2 coherent_pixel(uvec2 slot, uint width, uint coherence, uint block_bits, ui
     uint side = 1u << block_bits;
     uint mask = side - 1u;
     uvec2 block = slot >> block_bits;
-    uint block_index = block.y * ((width + mask) >> block_bits) + block.x;
+    uint block_index = coherence_block_index(slot, width, block_bits);
     uint q = ((slot.y & mask) << block_bits) | (slot.x & mask);
     uint block_seed = hash_pcg(block_index ^ hash_pcg(seed ^ 0x5bd1e995u));
     if (zordered) {
