@@ -103,8 +103,9 @@ pub struct PathSettings {
     /// Adaptive sampling ([`adaptive`]): after a uniform pilot of `PILOT_SPP`, each
     /// block (a workgroup row, or whole coherence blocks) takes samples in proportion to the
     /// noise the pilot showed around it. Unbiased; `stop.spp` is then the mean over the pixels.
-    /// Not with scattered coherence: a block's noise estimate reads its neighbours, and those
-    /// must not share sample numbers with it (coherence 1, or `coherence_block` 0).
+    /// A block's noise estimate reads its neighbours, which must not share sample numbers with
+    /// it: blocks are whole coherence blocks (the scattered coherence's squares, or runs in a
+    /// row with `coherence_block` 0).
     pub adaptive: bool,
     /// Batches grow from `image.samples_per_batch` while a tile's submission and the whole
     /// batch stay short ([`batch`]; what `vkrt render` does unless `--samples-per-batch` is
