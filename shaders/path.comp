@@ -23,6 +23,7 @@
 #include "sampling.glsl"
 #include "bsdf.glsl"
 #include "lights.glsl"
+#include "mirror_probe.glsl"
 
 // Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
 layout(local_size_x_id = SPEC_WORKGROUP_X, local_size_y_id = SPEC_WORKGROUP_Y) in;
@@ -48,7 +49,8 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler s
 }
 
 // The radiance along the camera ray (origin, dir); `rays` counts the rays traced for it.
-vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
+// `first_p_spec` > 0: the mirror lobe's probability at the first hit (mirror_probe.glsl).
+vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float first_p_spec) {
     vec3 throughput = vec3(1.0);
     vec3 result = vec3(0.0);
     bool nee = params.nee != 0u;
@@ -88,6 +90,10 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays) {
         // The next ray (or shadow ray) would be segment depth + 2 of the path.
         if (depth + 1u >= params.max_depth) break;
         Lobes l = lobes_of(m);
+        // Before light sampling, whose MIS weight must use the same lobe probabilities.
+        if (HAS_MIRROR && depth == 0u && first_p_spec > 0.0 && l.mirror && l.p_spec > 0.0 && l.p_spec < 1.0) {
+            l.p_spec = min(l.p_spec, first_p_spec);
+        }
         Onb f = onb_from(s.ns);
         vec3 wo = to_local(f, -dir);
         vec3 up = offset_ray(s.p, s.ng, frame.scene_scale);
@@ -140,13 +146,19 @@ void main() {
                                  params.sampler_kind == SAMPLER_ZSOBOL, key);
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;
     uint index = pixel.y * frame.width + pixel.x;
+    uint rays = 0u;
+    if (push.probe != 0u) {
+        mirror_probe[index] = mirror_probe_value(pixel, rays);
+        ray_counts[index] += rays;
+        return;
+    }
+    float first_p_spec = HAS_MIRROR ? uintBitsToFloat(mirror_probe[index]) : 0.0;
     uvec2 samples = uvec2(push.sample_base, push.sample_count);
     // Adaptive: the block's own range; blocks are whole coherence blocks, keyed alike.
     if (params.adaptive != 0u) samples = block_samples[adaptive_block_key(pixel)];
     Fixed3 even = fixed3_zero();
     Fixed3 odd = fixed3_zero();
     uint dropped = 0u;
-    uint rays = 0u;
     for (uint k = 0u; k < samples.y; k++) {
         uint sample_index = samples.x + k;
         Sampler smp = sampler_init(params.sampler_kind, key, sample_index, frame.seed, params.sample_rate, params.zsobol_log2);
@@ -155,7 +167,7 @@ void main() {
         vec3 dir;
         if (camera_has_lens(frame)) camera_lens_ray(frame, xy, sampler_2d(smp), origin, dir);
         else dir = camera_ray_direction(frame, xy);
-        vec3 c = radiance(origin, dir, smp, rays);
+        vec3 c = radiance(origin, dir, smp, rays, first_p_spec);
         // NaN, Inf and samples past the fixed-point range never enter the sums: count them.
         // (Radiance is never negative; max() only keeps a -0.0 from the conversion.)
         if (any(isnan(c)) || any(isinf(c)) || max3(c) >= exp2(float(ACCUM_MAX_SAMPLE_LOG2))) {

@@ -83,6 +83,11 @@ shared_constants! {
     BINDING_TANGENTS = 35;
     /// The texel-decode probe's output of decoded tangents (after BINDING_TANGENTS).
     BINDING_DECODE_OUT_TANGENTS = 36;
+    /// The path tracer's mirror probe (`uint[]`, one per pixel, written by the probe pass and
+    /// read by every sampling dispatch; shaders/include/mirror_probe.glsl): the probability
+    /// with which the camera ray's first hit takes a mirror lobe over its Lambert lobe, as
+    /// float bits, or 0 for the material's own choice.
+    BINDING_MIRROR_PROBE = 37;
     /// Fractional bits of those sums: a sample's radiance c >= 0 adds round(c 2^24). Integer
     /// sums are exact and the same in any order, so a run split into batches, resumed runs and
     /// merged shards give the same bytes as one run. Quantum 6e-8; a pixel's sum holds up to

@@ -67,7 +67,9 @@ gpu_structs! {
         /// is not specialised on Mesa 25.0 lavapipe: it reads 1 x 1, see tile_region.glsl).
         pub group_width: u32,
         pub group_height: u32,
-        pub _pad1: u32,
+        /// The path tracer: 1 for the mirror-probe pass (one value per pixel into
+        /// BINDING_MIRROR_PROBE, no samples; shaders/include/mirror_probe.glsl), 0 to sample.
+        pub probe: u32,
         pub _pad2: u32,
         pub _pad3: u32,
     }

@@ -160,7 +160,7 @@ struct GpuPush {
     vec3 grid_scale;
     uint group_width;
     uint group_height;
-    uint _pad1;
+    uint probe;
     uint _pad2;
     uint _pad3;
 };

@@ -19,6 +19,10 @@ layout(std430, set = 0, binding = BINDING_SAMPLE_COUNTS) buffer SampleCounts { u
 layout(std430, set = 0, binding = BINDING_BLOCK_SAMPLES) readonly buffer BlockSamples { uvec2 block_samples[]; };
 // Rays traced per pixel (closest-hit and shadow rays), for the progress line's rays/s.
 layout(std430, set = 0, binding = BINDING_RAY_COUNTS) buffer RayCounts { uint ray_counts[]; };
+// Per pixel, the mirror lobe's probability at the camera ray's first hit, as float bits (0: the
+// material's own choice): written by the probe pass, read once per sampling invocation
+// (mirror_probe.glsl).
+layout(std430, set = 0, binding = BINDING_MIRROR_PROBE) buffer MirrorProbe { uint mirror_probe[]; };
 
 #ifndef LAYOUT_PROBE
 // The light-selection table is read at a per-lane index: an RGBA32UI texel buffer, as the

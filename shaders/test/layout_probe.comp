@@ -47,4 +47,5 @@ void main() {
     sum_odd_r[0] = w; sum_odd_g[0] = w; sum_odd_b[0] = w;
     sample_counts[0] = w;
     ray_counts[0] = uint(s);
+    mirror_probe[0] = uint(s);
 }

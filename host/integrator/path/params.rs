@@ -22,6 +22,7 @@ pub const PATH_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_SAMPLE_COUNTS, BindingKind::Storage),
     (BINDING_BLOCK_SAMPLES, BindingKind::Storage),
     (BINDING_RAY_COUNTS, BindingKind::Storage),
+    (BINDING_MIRROR_PROBE, BindingKind::Storage),
 ];
 
 /// The settings as the shader reads them, with the scene's light table (already on the GPU).

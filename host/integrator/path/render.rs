@@ -42,6 +42,10 @@ struct PathGpu<'a> {
     blocks: Buffer<'a>,
     /// Rays traced per pixel, for rays/s.
     rays: Buffer<'a>,
+    /// The mirror probe's value per pixel (BINDING_MIRROR_PROBE; 0 until the probe pass runs).
+    _mirror_probe: Buffer<'a>,
+    /// The scene has mirror materials (and the shader reads the probe).
+    has_mirrors: bool,
     pipeline: ComputePipeline<'a>,
     // Bound to the pipeline; kept alive with it.
     _frame: Buffer<'a>,
@@ -77,6 +81,8 @@ impl<'a> PathGpu<'a> {
         let blocks = Buffer::new(ctx, "block samples", block_count as u64 * 8, storage, MemoryLocation::Device)?;
         let rays = Buffer::new(ctx, "ray counts", pixels * 4, storage, MemoryLocation::Device)?;
         rays.clear()?;
+        let mirror_probe = Buffer::new(ctx, "mirror probe", pixels * 4, storage, MemoryLocation::Device)?;
+        mirror_probe.clear()?;
         let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
         let features = img.features(&scene.info);
         let pipeline = ComputePipeline::specialized(
@@ -97,12 +103,14 @@ impl<'a> PathGpu<'a> {
                 (BINDING_SAMPLE_COUNTS, &counts),
                 (BINDING_BLOCK_SAMPLES, &blocks),
                 (BINDING_RAY_COUNTS, &rays),
+                (BINDING_MIRROR_PROBE, &mirror_probe),
             ],
         )?;
         for (binding, plane) in SUM_PLANES.iter().zip(&planes) {
             pipeline.bind(*binding, plane)?;
         }
-        Ok(Self { planes, counts, blocks, rays, pipeline, _frame: frame_buf, _params: params_buf })
+        let has_mirrors = features.has(crate::prepare::features::MIRROR);
+        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, has_mirrors, pipeline, _frame: frame_buf, _params: params_buf })
     }
 
     /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
@@ -194,6 +202,11 @@ pub fn render(
         BatchSizer::fixed(img.samples_per_batch)
     };
     let empty = scene.bvh.triangle_count == 0;
+    if settings.mirror_probe && gpu.has_mirrors && !empty {
+        // Before any sample: each run (resumed or a shard too) computes the same values.
+        let probe = GpuPush { probe: 1, ..scene.bvh.push };
+        dispatch_samples(ctx, &probe, &gpu.pipeline, "mirror probe", img, align, 0, 0, 0, &mut || stats.submissions += 1)?;
+    }
     let mut run = RunState { samples: acc.samples, first_sample: acc.samples, ..RunState::default() };
     let (mut last_estimate, mut last_checkpoint, mut last_snapshot) = (start, start, start);
     // How long a read-back for the estimate took, and the rays counted at the last one.
