@@ -1,9 +1,9 @@
 //! Images and hits do not depend on the device's subgroup size. lavapipe runs 8-wide subgroups,
-//! or 16-wide with LP_NATIVE_VECTOR_WIDTH=512 (on a CPU with AVX-512): the same renders and ray
-//! queries under both must give the same bytes, since nothing vkrt computes depends on how the
-//! device groups lanes (gpu::Workgroups only groups them for execution; adaptive and coherence
-//! blocks are fixed 8-pixel rows). tools/test also runs the GPU tests a second time with the
-//! 16-wide subgroups.
+//! 4-wide ones with LP_NATIVE_VECTOR_WIDTH=128 (any x86 CPU) and 16-wide ones with
+//! LP_NATIVE_VECTOR_WIDTH=512 (on a CPU with AVX-512): the same renders and ray queries under
+//! each must give the same bytes, since nothing vkrt computes depends on how the device groups
+//! lanes (gpu::Workgroups only groups them for execution; adaptive and coherence blocks are
+//! fixed pixel blocks). tools/test also runs the GPU tests again with each other width.
 
 mod common;
 
@@ -14,27 +14,36 @@ fn vkrt(width: &str, args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_vkrt")).env("LP_NATIVE_VECTOR_WIDTH", width).args(args).output().expect("run vkrt")
 }
 
-/// True if this machine's lavapipe can run 16-wide subgroups (a CPU with AVX-512); prints why not.
-fn sixteen_wide_available() -> bool {
-    let avx512 = std::fs::read_to_string("/proc/cpuinfo").is_ok_and(|c| c.contains(" avx512f"));
-    let info = vkrt("512", &["info"]);
+/// The LP_NATIVE_VECTOR_WIDTH values to compare with lavapipe's 8-wide default, with the
+/// subgroup size each gives: 4-wide on lavapipe, 16-wide too on a CPU with AVX-512; none on
+/// another device (prints why).
+fn other_widths() -> Vec<(&'static str, &'static str)> {
+    use std::io::Write as _;
+    let info = vkrt("256", &["info"]);
     let text = String::from_utf8_lossy(&info.stdout).into_owned();
     let lavapipe = text.lines().find(|l| l.contains("<- vkrt uses this one")).is_some_and(|l| l.contains("llvmpipe")) || text.contains("llvmpipe");
-    if !(avx512 && lavapipe) {
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stderr(), "SKIPPED: 16-wide subgroups need lavapipe on a CPU with AVX-512 (avx512f: {avx512}, lavapipe: {lavapipe})");
-        return false;
+    if !lavapipe {
+        let _ = writeln!(std::io::stderr(), "SKIPPED: other subgroup sizes need lavapipe");
+        return Vec::new();
     }
-    true
+    let mut widths = vec![("128", "subgroup size: 4")];
+    if std::fs::read_to_string("/proc/cpuinfo").is_ok_and(|c| c.contains(" avx512f")) {
+        widths.push(("512", "subgroup size: 16"));
+    } else {
+        let _ = writeln!(std::io::stderr(), "16-wide subgroups not compared: they need a CPU with AVX-512");
+    }
+    widths
 }
 
 #[test]
-fn renders_and_hits_are_the_same_bytes_with_8_and_16_wide_subgroups() {
-    if !sixteen_wide_available() {
+fn renders_and_hits_are_the_same_bytes_with_4_8_and_16_wide_subgroups() {
+    let others = other_widths();
+    if others.is_empty() {
         return;
     }
-    // The leg really changes the subgroup size.
-    for (width, want) in [("256", "subgroup size: 8"), ("512", "subgroup size: 16")] {
+    let widths: Vec<&str> = std::iter::once("256").chain(others.iter().map(|w| w.0)).collect();
+    // Each leg really changes the subgroup size.
+    for (width, want) in std::iter::once(("256", "subgroup size: 8")).chain(others.iter().copied()) {
         let text = String::from_utf8_lossy(&vkrt(width, &["info"]).stdout).into_owned();
         assert!(text.contains(want), "LP_NATIVE_VECTOR_WIDTH={width}: {text}");
     }
@@ -46,12 +55,13 @@ fn renders_and_hits_are_the_same_bytes_with_8_and_16_wide_subgroups() {
         ("whitted.pfm", vec!["render", &lab, "--spp", "2"]),
         ("path.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "8"]),
         ("adaptive.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "16", "--adaptive", "--coherence", "4", "--coherence-block", "0"]),
+        ("adaptive-squares.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "16", "--adaptive"]),
         ("uncorrelated.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "8", "--coherence", "1"]),
         ("wide-layout.pfm", vec!["render", &measured, "--integrator", "path", "--spp", "4", "--layout", "wide"]),
     ];
     for (name, args) in &cases {
         let mut outputs = Vec::new();
-        for width in ["256", "512"] {
+        for width in &widths {
             let out = dir.join(format!("{width}-{name}"));
             let mut all = args.clone();
             let out_s = out.display().to_string();
@@ -61,7 +71,9 @@ fn renders_and_hits_are_the_same_bytes_with_8_and_16_wide_subgroups() {
             assert!(o.status.success(), "{name} at {width} bits: {}", String::from_utf8_lossy(&o.stderr));
             outputs.push(std::fs::read(&out).unwrap());
         }
-        assert!(outputs[0] == outputs[1], "{name}: 8- and 16-wide subgroups rendered different images");
+        for (width, output) in widths.iter().zip(&outputs).skip(1) {
+            assert!(*output == outputs[0], "{name}: LP_NATIVE_VECTOR_WIDTH={width} rendered another image than the 8-wide subgroups");
+        }
     }
     // Batch queries: the same hits and the same traversal counters.
     let rays: Vec<vkrt::gpu_abi::GpuRay> = (0..4000)
@@ -74,7 +86,7 @@ fn renders_and_hits_are_the_same_bytes_with_8_and_16_wide_subgroups() {
     vkrt::output::npy::write_rays(&ray_file, &rays).unwrap();
     let mut logs = Vec::new();
     let mut hits = Vec::new();
-    for width in ["256", "512"] {
+    for width in &widths {
         let out = dir.join(format!("{width}-hits.npy"));
         let o = vkrt(width, &["trace", &measured, "--rays", ray_file.to_str().unwrap(), "-o", out.to_str().unwrap(), "--layout", "multi-order"]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -83,6 +95,8 @@ fn renders_and_hits_are_the_same_bytes_with_8_and_16_wide_subgroups() {
         logs.push(log.rsplit(": ").next().unwrap_or("").split(" M rays/s").last().unwrap_or("").to_string());
         hits.push(std::fs::read(Path::new(&out)).unwrap());
     }
-    assert!(hits[0] == hits[1], "hits differ between 8- and 16-wide subgroups");
-    assert_eq!(logs[0], logs[1], "traversal counters differ");
+    for (k, width) in widths.iter().enumerate().skip(1) {
+        assert!(hits[k] == hits[0], "hits differ between 8-wide subgroups and LP_NATIVE_VECTOR_WIDTH={width}");
+        assert_eq!(logs[k], logs[0], "traversal counters differ at LP_NATIVE_VECTOR_WIDTH={width}");
+    }
 }
