@@ -23,7 +23,9 @@
 #include "sampling.glsl"
 #include "bsdf.glsl"
 #include "lights.glsl"
+#ifdef MIRROR_PROBE
 #include "mirror_probe.glsl"
+#endif
 
 // Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
 layout(local_size_x_id = SPEC_WORKGROUP_X, local_size_y_id = SPEC_WORKGROUP_Y) in;
@@ -147,12 +149,17 @@ void main() {
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;
     uint index = pixel.y * frame.width + pixel.x;
     uint rays = 0u;
+    // The mirror probe's pass and value (MIRROR_PROBE: the path_mirrors variant, for scenes
+    // with mirror materials); 0: every first hit picks its lobe by albedo.
+    float first_p_spec = 0.0;
+#ifdef MIRROR_PROBE
     if (push.probe != 0u) {
         mirror_probe[index] = mirror_probe_value(pixel, rays);
         ray_counts[index] += rays;
         return;
     }
-    float first_p_spec = HAS_MIRROR ? uintBitsToFloat(mirror_probe[index]) : 0.0;
+    if (HAS_MIRROR) first_p_spec = uintBitsToFloat(mirror_probe[index]);
+#endif
     uvec2 samples = uvec2(push.sample_base, push.sample_count);
     // Adaptive: the block's own range; blocks are whole coherence blocks, keyed alike.
     if (params.adaptive != 0u) samples = block_samples[adaptive_block_key(pixel)];

@@ -11,6 +11,8 @@ include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 pub enum Tracing {
     Whitted,
     Path,
+    /// The path tracer with the mirror probe pass compiled in (scenes with mirror materials).
+    PathMirrors,
     Trace,
 }
 
@@ -20,6 +22,7 @@ impl Tracing {
         let builds = match self {
             Tracing::Whitted => &WHITTED,
             Tracing::Path => &PATH,
+            Tracing::PathMirrors => &PATH_MIRRORS,
             Tracing::Trace => &TRACE,
         };
         builds[layout as usize]
@@ -29,6 +32,7 @@ impl Tracing {
         match self {
             Tracing::Whitted => "whitted",
             Tracing::Path => "path",
+            Tracing::PathMirrors => "path_mirrors",
             Tracing::Trace => "trace",
         }
     }

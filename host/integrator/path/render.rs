@@ -44,8 +44,8 @@ struct PathGpu<'a> {
     rays: Buffer<'a>,
     /// The mirror probe's value per pixel (BINDING_MIRROR_PROBE; 0 until the probe pass runs).
     _mirror_probe: Buffer<'a>,
-    /// The scene has mirror materials (and the shader reads the probe).
-    has_mirrors: bool,
+    /// The pipeline is the mirror-probe variant: run its probe pass before sampling.
+    probes_mirrors: bool,
     pipeline: ComputePipeline<'a>,
     // Bound to the pipeline; kept alive with it.
     _frame: Buffer<'a>,
@@ -85,10 +85,12 @@ impl<'a> PathGpu<'a> {
         mirror_probe.clear()?;
         let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
         let features = img.features(&scene.info);
+        let probes_mirrors = settings.mirror_probe && features.has(crate::prepare::features::MIRROR);
+        let shader = if probes_mirrors { Tracing::PathMirrors } else { Tracing::Path };
         let pipeline = ComputePipeline::specialized(
             ctx,
-            "path",
-            Tracing::Path.spirv(scene.bvh.layout),
+            shader.name(),
+            shader.spirv(scene.bvh.layout),
             &bindings,
             std::mem::size_of::<GpuPush>() as u32,
             &features.spec_constants(),
@@ -109,8 +111,7 @@ impl<'a> PathGpu<'a> {
         for (binding, plane) in SUM_PLANES.iter().zip(&planes) {
             pipeline.bind(*binding, plane)?;
         }
-        let has_mirrors = features.has(crate::prepare::features::MIRROR);
-        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, has_mirrors, pipeline, _frame: frame_buf, _params: params_buf })
+        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, pipeline, _frame: frame_buf, _params: params_buf })
     }
 
     /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
@@ -202,7 +203,7 @@ pub fn render(
         BatchSizer::fixed(img.samples_per_batch)
     };
     let empty = scene.bvh.triangle_count == 0;
-    if settings.mirror_probe && gpu.has_mirrors && !empty {
+    if gpu.probes_mirrors && !empty {
         // Before any sample: each run (resumed or a shard too) computes the same values.
         let probe = GpuPush { probe: 1, ..scene.bvh.push };
         dispatch_samples(ctx, &probe, &gpu.pipeline, "mirror probe", img, align, 0, 0, 0, &mut || stats.submissions += 1)?;
