@@ -23,8 +23,9 @@
 #include "sampling.glsl"
 #include "bsdf.glsl"
 #include "lights.glsl"
-#ifdef MIRROR_PROBE
+#ifdef MIRRORS
 #include "mirror_probe.glsl"
+#include "mirror_light.glsl"
 #endif
 
 // Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
@@ -59,6 +60,13 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
     // Density of the BSDF sample that made the current ray; delta for the camera ray.
     float prev_pdf = 0.0;
     bool prev_delta = true;
+#ifdef MIRRORS
+    // When the current ray leaves a planar mirror that a non-delta bounce led to: that bounce's
+    // density times the mirror lobe's probability, and the bounce's distance to the mirror
+    // (the MIS weight against light sampled through the mirror, mirror_light.glsl); else 0.
+    float mirror_pdf = 0.0;
+    float mirror_dist = 0.0;
+#endif
     for (uint depth = 0u;; depth++) {
         rays++;
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
@@ -87,6 +95,17 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
                 float light_pdf = emitter_area_pdf(ke) * h.t * h.t / max(cos_light, 1e-12);
                 w = power_heuristic(prev_pdf, light_pdf);
             }
+#ifdef MIRRORS
+            else if (nee && mirror_pdf > 0.0) {
+                // Light sampling through that mirror would have aimed at this point from the
+                // image of the bounce's point: the whole path's length, this cosine.
+                float cos_light = dot(s.ng, -dir);
+                vec3 ke = HAS_TEXTURES ? load_material(s.material).emission : m.emission;
+                float len = mirror_dist + h.t;
+                float light_pdf = emitter_area_pdf(ke) * len * len / max(cos_light, 1e-12);
+                w = power_heuristic(mirror_pdf, light_pdf / float(params.mirror_count));
+            }
+#endif
             result += throughput * m.emission * w;
         }
         // The next ray (or shadow ray) would be segment depth + 2 of the path.
@@ -99,7 +118,12 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         Onb f = onb_from(s.ns);
         vec3 wo = to_local(f, -dir);
         vec3 up = offset_ray(s.p, s.ng, frame.scene_scale);
-        if (nee && has_smooth_lobes(l)) result += throughput * next_event(s, l, f, wo, up, smp, rays);
+        if (nee && has_smooth_lobes(l)) {
+            result += throughput * next_event(s, l, f, wo, up, smp, rays);
+#ifdef MIRRORS
+            if (params.mirror_count > 0u) result += throughput * light_through_mirror(s, l, f, wo, up, smp, rays);
+#endif
+        }
         float u_lobe = sampler_1d(smp);
         vec2 u = sampler_2d(smp);
         BsdfSample bs;
@@ -110,6 +134,11 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         bool crosses = dot(wi, s.ng) < 0.0;
         if (crosses != (bs.wi.z < 0.0)) break;
         throughput *= bs.weight;
+#ifdef MIRRORS
+        bool planar = bs.delta && l.mirror && (m.flags & MATERIAL_PLANAR_MIRROR) != 0u && params.mirror_count > 0u;
+        mirror_pdf = planar && !prev_delta ? prev_pdf * l.p_spec : 0.0;
+        mirror_dist = h.t;
+#endif
         prev_pdf = bs.pdf;
         prev_delta = bs.delta;
         origin = crosses ? offset_ray(s.p, -s.ng, frame.scene_scale) : up;
@@ -149,10 +178,10 @@ void main() {
     if (pixel.x >= frame.width || pixel.y >= frame.height) return;
     uint index = pixel.y * frame.width + pixel.x;
     uint rays = 0u;
-    // The mirror probe's pass and value (MIRROR_PROBE: the path_mirrors variant, for scenes
-    // with mirror materials); 0: every first hit picks its lobe by albedo.
+    // The mirror probe's pass and value (MIRRORS: the path_mirrors variant, for scenes with
+    // mirror materials); 0: every first hit picks its lobe by albedo.
     float first_p_spec = 0.0;
-#ifdef MIRROR_PROBE
+#ifdef MIRRORS
     if (push.probe != 0u) {
         mirror_probe[index] = mirror_probe_value(pixel, rays);
         ray_counts[index] += rays;

@@ -167,7 +167,7 @@ pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u
         coherence_block,
         adaptive: args.adaptive,
         grow_batches: args.samples_per_batch.is_none(),
-        mirror_probe: true,
+        mirror_sampling: true,
         stop,
         first_sample: 0,
     }

@@ -88,6 +88,11 @@ shared_constants! {
     /// with which the camera ray's first hit takes a mirror lobe over its Lambert lobe, as
     /// float bits, or 0 for the material's own choice.
     BINDING_MIRROR_PROBE = 37;
+    /// The path tracer's planar mirror triangles (`GpuMirror[]`, 3 texels each;
+    /// `crate::prepare::mirrors`): next-event estimation through them. Grouped by plane ...
+    BINDING_MIRRORS = 40;
+    /// ... and the groups (`GpuMirrorPlane[]`): light sampling picks a plane.
+    BINDING_MIRROR_PLANES = 41;
     /// Fractional bits of those sums: a sample's radiance c >= 0 adds round(c 2^24). Integer
     /// sums are exact and the same in any order, so a run split into batches, resumed runs and
     /// merged shards give the same bytes as one run. Quantum 6e-8; a pixel's sum holds up to
@@ -128,6 +133,10 @@ shared_constants! {
     /// glTF `alphaMode: BLEND`: alpha is coverage (stochastic transparency in the path tracer,
     /// a cut-out at 0.5 in Whitted; alpha.glsl). Set with `MATERIAL_ALPHA`.
     MATERIAL_BLEND = 64;
+    /// A mirror whose every triangle is flat and untextured, so that the path tracer samples
+    /// light through it (`crate::prepare::mirrors`, shaders/include/mirror_light.glsl). Set at
+    /// upload, not stored in prepared scenes.
+    MATERIAL_PLANAR_MIRROR = 128;
     /// `GpuMaterial::diffuse_texture`, `alpha_texture` and `GpuFrame::sky_texture` meaning "none".
     TEXTURE_NONE = 0xFFFF_FFFF;
 

@@ -105,7 +105,8 @@ gpu_structs! {
         /// `SAMPLER_ZSOBOL`: log2 of the samples per pixel of one Z-ordered set (sample k
         /// belongs to set k >> zsobol_log2), at most `ZSOBOL_MAX_LOG2`.
         pub zsobol_log2: u32,
-        pub _pad2: u32,
+        /// Mirror planes (BINDING_MIRROR_PLANES) to sample light through; 0: none.
+        pub mirror_count: u32,
     }
 
     /// A ray for batch queries: origin, tmin, direction, tmax (the `vkrt trace` file layout).

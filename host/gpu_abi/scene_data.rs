@@ -103,6 +103,26 @@ gpu_structs! {
         pub _pad1: u32,
     }
 
+    /// A planar mirror triangle (`crate::prepare::mirrors`), for light sampled through it.
+    pub struct GpuMirror {
+        pub v0: [f32; 3],
+        /// Its material (`MATERIAL_PLANAR_MIRROR`).
+        pub material: u32,
+        pub v1: [f32; 3],
+        pub _pad0: u32,
+        pub v2: [f32; 3],
+        pub _pad1: u32,
+    }
+
+    /// The mirror triangles of one plane and material (`crate::prepare::mirrors`): entries
+    /// `first .. first + count` of BINDING_MIRRORS.
+    pub struct GpuMirrorPlane {
+        pub first: u32,
+        pub count: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+
     /// One entry of the light-selection alias table (Vose 1991, "A linear algorithm for
     /// generating random numbers with a given distribution"): pick entry i uniformly, keep it if
     /// u < `threshold`, else take `alias`. `pmf` is the probability of selecting entry i itself,

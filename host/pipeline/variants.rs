@@ -35,10 +35,11 @@ pub const SHADERS: &[Shader] = &[
     // The integrators trace through alpha cut-outs (shaders/include/leaf.glsl).
     Shader { name: "whitted", source: "whitted.comp", defines: &["ALPHA_TEST"], per_layout: true, role: Role::Product },
     Shader { name: "path", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA"], per_layout: true, role: Role::Product },
-    // The same with the mirror probe pass (shaders/include/mirror_probe.glsl), for scenes with
-    // mirror materials: its extra walk would cost every other scene ~16 ms of pipeline creation
-    // on lavapipe (SPIR-V is parsed before specialization constants can drop code).
-    Shader { name: "path_mirrors", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRROR_PROBE"], per_layout: true, role: Role::Product },
+    // The same with what the path tracer does for mirrors (the probe pass, mirror_probe.glsl,
+    // and light through planar mirrors, mirror_light.glsl), for scenes with mirror materials:
+    // in `path` that code would cost every other scene ~16 ms of pipeline creation on
+    // lavapipe (SPIR-V is parsed before specialization constants can drop code).
+    Shader { name: "path_mirrors", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS"], per_layout: true, role: Role::Product },
     // Batch ray queries see geometry only.
     Shader { name: "trace", source: "trace.comp", defines: &[], per_layout: true, role: Role::Product },
     // The textbook intersection tests, only to measure what the robust ones cost

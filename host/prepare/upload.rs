@@ -63,6 +63,11 @@ pub struct GpuScene<'a> {
     pub tangents: TexelArray<'a>,
     /// The path tracer's light-selection alias table (`GpuLightPick[]`).
     pub light_picks: TexelArray<'a>,
+    /// The planar mirrors the path tracer samples light through (`GpuMirror[]` grouped by
+    /// plane, and the planes, `GpuMirrorPlane[]`; `super::mirrors`; one zero entry without any).
+    pub mirrors: TexelArray<'a>,
+    pub mirror_planes: TexelArray<'a>,
+    pub mirror_plane_count: u32,
     pub light_count: u32,
     pub emitter_count: u32,
     /// Entries in `light_picks`.
@@ -95,10 +100,14 @@ impl<'a> GpuScene<'a> {
     /// seen as `info` says.
     pub fn upload_arrays(ctx: &'a Context, a: &SceneArrays, info: &SceneInfo) -> Result<Self> {
         use TexelFormat::{R32Uint, Rgba32Uint};
+        // Decided at every upload (cheap: one pass over the triangles), so prepared scenes and
+        // their cache files do not hold it.
+        let (materials, mirrors) = super::mirrors::planar_mirrors(a.triangles, a.shading, a.materials);
+        let (mirrors, planes) = super::mirrors::by_plane(&mirrors);
         Ok(Self {
             bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?,
             shading: TexelArray::with_data(ctx, "shading data", a.shading, Rgba32Uint)?,
-            materials: TexelArray::with_data(ctx, "materials", a.materials, Rgba32Uint)?,
+            materials: TexelArray::with_data(ctx, "materials", &materials, Rgba32Uint)?,
             lights: TexelArray::with_data(ctx, "lights", a.lights, Rgba32Uint)?,
             emitters: TexelArray::with_data(ctx, "emitters", a.emitters, Rgba32Uint)?,
             textures: TexelArray::with_data(ctx, "texture table", a.textures, Rgba32Uint)?,
@@ -107,6 +116,9 @@ impl<'a> GpuScene<'a> {
             uvs: TexelArray::with_data(ctx, "texture coordinates", a.uvs, Rgba32Uint)?,
             tangents: TexelArray::with_data(ctx, "tangents", a.tangents, Rgba32Uint)?,
             light_picks: TexelArray::with_data(ctx, "light picks", a.picks, Rgba32Uint)?,
+            mirrors: TexelArray::with_data(ctx, "planar mirrors", &mirrors, Rgba32Uint)?,
+            mirror_planes: TexelArray::with_data(ctx, "mirror planes", &planes, Rgba32Uint)?,
+            mirror_plane_count: planes.len() as u32,
             light_count: a.lights.len() as u32,
             emitter_count: a.emitters.len() as u32,
             pick_count: a.picks.len() as u32,
@@ -163,7 +175,7 @@ impl<'a> GpuScene<'a> {
     }
 
     /// Binds everything of the scene an integrator shader reads: the BVH and the shading
-    /// arrays (not the light picks: only the path tracer reads them, [`Self::bind_light_picks`]).
+    /// arrays (not the light picks: only the path tracer reads them, [`Self::bind_path_arrays`]).
     pub fn bind(&self, pipeline: &ComputePipeline) -> Result<()> {
         self.bvh.bind(pipeline)?;
         for (binding, array) in self.shading_bindings() {
@@ -172,8 +184,11 @@ impl<'a> GpuScene<'a> {
         Ok(())
     }
 
-    /// Binds the light-selection table (BINDING_LIGHT_PICKS).
-    pub fn bind_light_picks(&self, pipeline: &ComputePipeline) -> Result<()> {
-        pipeline.bind_texels(BINDING_LIGHT_PICKS, &self.light_picks.view)
+    /// Binds what only the path tracer reads: the light-selection table (BINDING_LIGHT_PICKS)
+    /// and the planar mirrors (BINDING_MIRRORS, BINDING_MIRROR_PLANES).
+    pub fn bind_path_arrays(&self, pipeline: &ComputePipeline) -> Result<()> {
+        pipeline.bind_texels(BINDING_LIGHT_PICKS, &self.light_picks.view)?;
+        pipeline.bind_texels(BINDING_MIRRORS, &self.mirrors.view)?;
+        pipeline.bind_texels(BINDING_MIRROR_PLANES, &self.mirror_planes.view)
     }
 }

@@ -183,6 +183,22 @@ struct GpuHit {
     uint _pad1;
 };
 
+struct GpuMirror {
+    vec3 v0;
+    uint material;
+    vec3 v1;
+    uint _pad0;
+    vec3 v2;
+    uint _pad1;
+};
+
+struct GpuMirrorPlane {
+    uint first;
+    uint count;
+    uint _pad0;
+    uint _pad1;
+};
+
 struct GpuLightPick {
     float pmf;
     uint alias;
@@ -202,7 +218,7 @@ struct GpuPathParams {
     uint adaptive;
     uint coherence_block_bits;
     uint zsobol_log2;
-    uint _pad2;
+    uint mirror_count;
 };
 
 #endif

@@ -23,7 +23,7 @@
 // hit inside the path loop (tried-and-not-kept.md, "A mirror's reflection traced first") cost
 // 8-11 % of the render time on lavapipe, for a third walk inlined into the loop and a hit
 // carried across iterations; two rays per pixel once per run are lost in the timing noise.
-// Compiled only into the `path_mirrors` variant (MIRROR_PROBE, host/pipeline/variants.rs),
+// Compiled only into the `path_mirrors` variant (MIRRORS, host/pipeline/variants.rs),
 // which scenes with mirror materials use: the extra walk made lavapipe's pipeline creation
 // ~16 ms longer for every scene (77 -> 93 ms median, cornell-measured), since SPIR-V is parsed
 // whole before specialization constants can drop code.

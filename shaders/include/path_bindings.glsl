@@ -34,6 +34,24 @@ GpuLightPick load_light_pick(uint i) {
     uvec4 a = texelFetch(light_pick_texels, int(i));
     return GpuLightPick(uintBitsToFloat(a.x), a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w));
 }
+
+// The planar mirrors (mirror_light.glsl), 48 B each: v0, material | v1 | v2.
+layout(set = 0, binding = BINDING_MIRRORS) uniform utextureBuffer mirror_texels;
+
+GpuMirror load_mirror(uint i) {
+    uvec4 a = texelFetch(mirror_texels, int(3u * i));
+    uvec4 b = texelFetch(mirror_texels, int(3u * i + 1u));
+    uvec4 c = texelFetch(mirror_texels, int(3u * i + 2u));
+    return GpuMirror(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), c.w);
+}
+
+// Their planes (one per plane and material), 16 B each: first, count.
+layout(set = 0, binding = BINDING_MIRROR_PLANES) uniform utextureBuffer mirror_plane_texels;
+
+GpuMirrorPlane load_mirror_plane(uint i) {
+    uvec4 a = texelFetch(mirror_plane_texels, int(i));
+    return GpuMirrorPlane(a.x, a.y, a.z, a.w);
+}
 #endif
 
 #endif

@@ -112,12 +112,17 @@ pub struct PathSettings {
     /// given); false (the default here): every batch takes `image.samples_per_batch`.
     /// Images are the same bytes either way.
     pub grow_batches: bool,
-    /// The mirror probe (default true; shaders/include/mirror_probe.glsl): in scenes with
-    /// mirror materials, one pass per run finds the pixels where a mirror over a Lambert lobe
-    /// reflects nothing (the open side of a scene with no sky), and there the camera ray's first
-    /// hit takes the Lambert lobe for most samples instead of 1 in 1/p_lambert. Unbiased either
-    /// way; false only to compare (tests, experiments).
-    pub mirror_probe: bool,
+    /// What the path tracer does for mirrors (default true; both unbiased, false only to
+    /// compare in tests and experiments), in scenes with mirror materials (the `path_mirrors`
+    /// shader variant):
+    /// - the mirror probe (shaders/include/mirror_probe.glsl): one pass per run finds the pixels
+    ///   where a mirror over a Lambert lobe reflects nothing (the open side of a scene with no
+    ///   sky), and there the camera ray's first hit takes the Lambert lobe for most samples
+    ///   instead of 1 in 1/p_lambert;
+    /// - light through planar mirrors (shaders/include/mirror_light.glsl,
+    ///   `crate::prepare::mirrors`): next-event estimation also aims at each light's image in a
+    ///   flat mirror, so light a mirror throws onto other surfaces is sampled, not only found.
+    pub mirror_sampling: bool,
     pub stop: Stop,
     /// The sample index this run starts at (0; a shard's first index, `super::shard`): its
     /// samples are `first_sample ..`, `stop.spp` of them.
@@ -151,7 +156,7 @@ impl Default for PathSettings {
             coherence_block: coherence::DEFAULT_COHERENCE_BLOCK,
             adaptive: false,
             grow_batches: false,
-            mirror_probe: true,
+            mirror_sampling: true,
             stop: Stop { spp: Some(16), ..Stop::default() },
             first_sample: 0,
         }

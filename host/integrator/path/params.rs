@@ -23,6 +23,8 @@ pub const PATH_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_BLOCK_SAMPLES, BindingKind::Storage),
     (BINDING_RAY_COUNTS, BindingKind::Storage),
     (BINDING_MIRROR_PROBE, BindingKind::Storage),
+    (BINDING_MIRRORS, BindingKind::Texels),
+    (BINDING_MIRROR_PLANES, BindingKind::Texels),
 ];
 
 /// The settings as the shader reads them, with the scene's light table (already on the GPU).
@@ -53,6 +55,7 @@ pub fn path_params(scene: &GpuScene, settings: &PathSettings) -> Result<GpuPathP
         adaptive: if settings.adaptive { BlockGrid::new(settings.image.width, settings.image.height, settings.coherence, settings.coherence_block).block_w } else { 0 },
         coherence_block_bits: super::coherence::block_bits(settings.coherence, settings.coherence_block),
         zsobol_log2: settings.zsobol_log2,
-        _pad2: 0,
+        // The mirror variant samples light through them (`PathSettings::mirror_sampling`).
+        mirror_count: if settings.mirror_sampling { scene.mirror_plane_count } else { 0 },
     })
 }

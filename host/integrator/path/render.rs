@@ -85,7 +85,7 @@ impl<'a> PathGpu<'a> {
         mirror_probe.clear()?;
         let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
         let features = img.features(&scene.info);
-        let probes_mirrors = settings.mirror_probe && features.has(crate::prepare::features::MIRROR);
+        let probes_mirrors = settings.mirror_sampling && features.has(crate::prepare::features::MIRROR);
         let shader = if probes_mirrors { Tracing::PathMirrors } else { Tracing::Path };
         let pipeline = ComputePipeline::specialized(
             ctx,
@@ -96,7 +96,7 @@ impl<'a> PathGpu<'a> {
             &features.spec_constants(),
         )?;
         scene.bind(&pipeline)?;
-        scene.bind_light_picks(&pipeline)?;
+        scene.bind_path_arrays(&pipeline)?;
         bind_all(
             &pipeline,
             &[
