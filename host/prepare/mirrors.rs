@@ -59,11 +59,21 @@ pub fn planar_mirrors(triangles: &[GpuTriangle], shading: &[GpuShading], materia
             let mut key = [t.v0, t.v1, t.v2].map(|v| v.map(f32::to_bits));
             key.sort();
             (qualifies.get(m).copied().unwrap_or(false) && seen.insert(key))
-                .then(|| GpuMirror { v0: t.v0, material: m as u32, v1: t.v1, _pad0: 0, v2: t.v2, _pad1: 0 })
+                .then_some(GpuMirror { v0: t.v0, material: m as u32, v1: t.v1, _pad0: 0, v2: t.v2, _pad1: 0 })
         })
         .collect::<Vec<GpuMirror>>();
     (flagged, mirrors)
 }
+
+/// The most mirror planes light sampling aims through. It picks one plane uniformly, so with
+/// many planes most aims miss (a faceted mirror ball): past this the scene's mirrors are left
+/// to BSDF sampling alone, and grouping stops before its cost (planes x triangles) grows.
+pub const MAX_MIRROR_PLANES: usize = 64;
+/// The most triangles of one plane: an aim is tested against each (three texel fetches), so a
+/// finely meshed flat mirror is left to BSDF sampling too. Limits drop all mirrors, never some:
+/// the BSDF side weighs every path off a `MATERIAL_PLANAR_MIRROR` material against light
+/// sampling, which must then be able to aim through it.
+pub const MAX_PLANE_TRIANGLES: usize = 32;
 
 /// How far (relative to the coordinates' magnitude) a vertex may lie off a plane and still be on it.
 const PLANE_TOLERANCE: f32 = 1e-5;
@@ -74,7 +84,8 @@ const PLANE_TOLERANCE: f32 = 1e-5;
 /// not, holds the point (two triangulations of one face, a face given twice), so the
 /// density the MIS weights use, one over the number of groups, is the true one. (If one point
 /// lies on triangles of two materials in one plane, it is aimed at from both groups: such a
-/// z-fighting mirror is counted twice. Files do not do that on purpose.)
+/// z-fighting mirror is counted twice. Files do not do that on purpose.) Nothing if there are
+/// more than [`MAX_MIRROR_PLANES`], or a plane of more than [`MAX_PLANE_TRIANGLES`].
 pub fn by_plane(mirrors: &[GpuMirror]) -> (Vec<GpuMirror>, Vec<GpuMirrorPlane>) {
     // (unit normal with its largest component positive, offset, material) of each group.
     let mut groups: Vec<(Vec3, f32, u32, Vec<GpuMirror>)> = Vec::new();
@@ -91,10 +102,14 @@ pub fn by_plane(mirrors: &[GpuMirror]) -> (Vec<GpuMirror>, Vec<GpuMirrorPlane>) 
         let on = |g: &(Vec3, f32, u32, Vec<GpuMirror>)| {
             g.2 == m.material && [a, b, c].iter().all(|v| (g.0.dot(*v) - g.1).abs() <= PLANE_TOLERANCE * scale) && g.0.dot(n).abs() >= 1.0 - PLANE_TOLERANCE
         };
-        match groups.iter_mut().find(|g| on(g)) {
-            Some(g) => g.3.push(*m),
+        match groups.iter().position(on) {
+            Some(g) => groups[g].3.push(*m),
+            None if groups.len() == MAX_MIRROR_PLANES => return (Vec::new(), Vec::new()),
             None => groups.push((n, n.dot(a), m.material, vec![*m])),
         }
+    }
+    if groups.iter().any(|g| g.3.len() > MAX_PLANE_TRIANGLES) {
+        return (Vec::new(), Vec::new());
     }
     let mut sorted = Vec::with_capacity(mirrors.len());
     let mut planes = Vec::with_capacity(groups.len());
@@ -109,7 +124,8 @@ pub fn by_plane(mirrors: &[GpuMirror]) -> (Vec<GpuMirror>, Vec<GpuMirrorPlane>) 
 fn is_flat(t: &GpuTriangle, s: &GpuShading) -> bool {
     let (a, b, c) = (Vec3::from(t.v0), Vec3::from(t.v1), Vec3::from(t.v2));
     let n = (b - a).cross(c - a);
-    if !(n.length_squared() > 0.0) {
+    // Zero area or NaN vertices: not a mirror to aim at.
+    if n.length_squared().is_nan() || n.length_squared() <= 0.0 {
         return false;
     }
     let n = n.normalize();
@@ -190,5 +206,13 @@ mod tests {
         assert!(sorted[..4].iter().all(|m| m.material == 0 && m.v0[2] == 1.0));
         assert_eq!((sorted[4].v0[2], sorted[5].material), (2.0, 1));
         assert_eq!((planes[1].first, planes[2].first), (4, 5));
+        // A faceted mirror of more planes than light sampling aims through: none.
+        let facets: Vec<GpuMirror> = (0..=MAX_MIRROR_PLANES).map(|k| mirror([[0.0, 0.0, k as f32], [1.0, 0.0, k as f32], [0.0, 1.0, k as f32]], 0)).collect();
+        assert_eq!(by_plane(&facets[..MAX_MIRROR_PLANES]).1.len(), MAX_MIRROR_PLANES);
+        assert!(by_plane(&facets).0.is_empty() && by_plane(&facets).1.is_empty());
+        // A finely meshed flat mirror: none either.
+        let mesh: Vec<GpuMirror> = (0..=MAX_PLANE_TRIANGLES).map(|k| mirror([[k as f32, 0.0, 1.0], [k as f32 + 1.0, 0.0, 1.0], [k as f32, 1.0, 1.0]], 0)).collect();
+        assert_eq!(by_plane(&mesh[..MAX_PLANE_TRIANGLES]).1.len(), 1);
+        assert!(by_plane(&mesh).1.is_empty());
     }
 }
