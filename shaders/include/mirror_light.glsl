@@ -18,9 +18,10 @@
 // lobe's probability p_spec at m) and from this estimator (1/mirror_count for the plane
 // times the light sample's density): both sides weigh it by the power heuristic of those two
 // (`radiance` on the BSDF side, where a path reaches an emitter right after a planar mirror
-// that a non-delta bounce led to). Delta lights get weight 1 (BSDF sampling cannot hit them);
-// directional lights and the environment have no point to aim at and are left to BSDF
-// sampling. Measured: docs/experiments/mirror-light.md.
+// that a non-delta bounce led to). Only emissive triangles are aimed at: point, spot and
+// directional lights seen in a mirror stay dark as before (no estimator here reaches a delta
+// light by way of a delta mirror; aiming at them is untested, so not on), and the environment
+// is left to BSDF sampling. Measured: docs/experiments/mirror-light.md.
 #ifndef VKRT_MIRROR_LIGHT_GLSL
 #define VKRT_MIRROR_LIGHT_GLSL
 
@@ -61,8 +62,9 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout
     if (!(dx > MIRROR_PLANE_MARGIN * frame.scene_scale)) return vec3(0.0);
     vec3 image = s.p - 2.0 * dx * n;
     LightSample ls;
-    if (!sample_light(image, image, u, ls) || isinf(ls.span_tmax)) return vec3(0.0);
-    // The sampled point on the light (or the point light): on x's side of the mirror.
+    // Emissive triangles only (a finite point, and a density BSDF sampling shares).
+    if (!sample_light(image, image, u, ls) || !(ls.pdf > 0.0) || isinf(ls.span_tmax)) return vec3(0.0);
+    // The sampled point on the light: on x's side of the mirror.
     vec3 y = image + ls.span * ls.span_tmax;
     if (dot(y - mr.v0, n) <= 0.0) return vec3(0.0);
     // The direction from x to the mirror: the image ray reflected in the plane.
@@ -86,7 +88,7 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout
     rays++;
     if (occluded(m_off, y - m_off, 0.0, 1.0)) return vec3(0.0);
     float pick = 1.0 / float(count);
-    float w = ls.pdf > 0.0 ? power_heuristic(pick * ls.pdf, bsdf_pdf * ml.p_spec) : 1.0;
+    float w = power_heuristic(pick * ls.pdf, bsdf_pdf * ml.p_spec);
     return fr * wi.z * ml.ks * ls.li_over_pdf * (w / pick);
 }
 
