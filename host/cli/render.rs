@@ -260,9 +260,10 @@ fn choose_integrator(args: &RenderArgs, say: &Say) -> Result<IntegratorKind> {
 fn bytes_per_pixel(integrator: IntegratorKind) -> (u64, u64, u64) {
     match integrator {
         IntegratorKind::Whitted => (16, 16, 16 + 12 + 12 + 4),
-        // Seven planes of 8 bytes (fixed-point sums, counts) and ray counts; on the host two
-        // copies of the sums while one is read back, the image and the picture.
-        IntegratorKind::Path => (8, 7 * 8 + 4, 2 * 56 + 12 + 12 + 4),
+        // Seven planes of 8 bytes (fixed-point sums, counts), ray counts and, in scenes with
+        // mirrors, the mirror probe; on the host two copies of the sums while one is read back,
+        // the image and the picture.
+        IntegratorKind::Path => (8, 7 * 8 + 4 + 4, 2 * 56 + 12 + 12 + 4),
     }
 }
 

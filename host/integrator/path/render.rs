@@ -81,11 +81,14 @@ impl<'a> PathGpu<'a> {
         let blocks = Buffer::new(ctx, "block samples", block_count as u64 * 8, storage, MemoryLocation::Device)?;
         let rays = Buffer::new(ctx, "ray counts", pixels * 4, storage, MemoryLocation::Device)?;
         rays.clear()?;
-        let mirror_probe = Buffer::new(ctx, "mirror probe", pixels * 4, storage, MemoryLocation::Device)?;
-        mirror_probe.clear()?;
         let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
         let features = img.features(&scene.info);
         let probes_mirrors = settings.mirror_sampling && features.has(crate::prepare::features::MIRROR);
+        // A value per pixel for the mirror variant; the plain shader never reads it, but the
+        // binding must hold a buffer.
+        let probe_bytes = if probes_mirrors { pixels * 4 } else { 4 };
+        let mirror_probe = Buffer::new(ctx, "mirror probe", probe_bytes, storage, MemoryLocation::Device)?;
+        mirror_probe.clear()?;
         let shader = if probes_mirrors { Tracing::PathMirrors } else { Tracing::Path };
         let pipeline = ComputePipeline::specialized(
             ctx,
