@@ -23,6 +23,7 @@
 #include "sampling.glsl"
 #include "bsdf.glsl"
 #include "lights.glsl"
+#include "caster_guide.glsl"
 #ifdef MIRRORS
 #include "mirror_probe.glsl"
 #include "mirror_light.glsl"
@@ -32,9 +33,9 @@
 layout(local_size_x_id = SPEC_WORKGROUP_X, local_size_y_id = SPEC_WORKGROUP_Y) in;
 
 
-// Light sampling at surface s: one light, one point on it, weighted against BSDF sampling.
-// `rays` counts the shadow ray if one is traced.
-vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler smp, inout uint rays) {
+// Light sampling at surface s: one light, one point on it, weighted against BSDF sampling
+// (mixed with the guide g, caster_guide.glsl). `rays` counts the shadow ray if one is traced.
+vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout Sampler smp, inout uint rays) {
     vec2 u = sampler_2d(smp);
     LightSample ls;
     if (!sample_light(s.p, origin, u, ls)) return vec3(0.0);
@@ -44,6 +45,7 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler s
     float bsdf_pdf;
     vec3 fr = bsdf_eval(l, wo, wi, bsdf_pdf);
     if (all(equal(fr, vec3(0.0)))) return vec3(0.0);
+    bsdf_pdf = guide_mix(g, bsdf_pdf, ls.wi);
     rays++;
     if (occluded(origin, ls.span, 0.0, ls.span_tmax)) return vec3(0.0);
     // Delta lights (pdf 0) cannot be hit by BSDF sampling: their weight is 1.
@@ -118,17 +120,19 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         Onb f = onb_from(s.ns);
         vec3 wo = to_local(f, -dir);
         vec3 up = offset_ray(s.p, s.ng, frame.scene_scale);
+        // Before light sampling, whose MIS weights must use the bounce's density with the guide.
+        Guide g = params.caster_count > 0u ? guide_at(s.p, l, smp) : guide_none();
         if (nee && has_smooth_lobes(l)) {
-            result += throughput * next_event(s, l, f, wo, up, smp, rays);
+            result += throughput * next_event(s, l, f, wo, g, up, smp, rays);
 #ifdef MIRRORS
-            if (params.mirror_count > 0u) result += throughput * light_through_mirror(s, l, f, wo, up, smp, rays);
+            if (params.mirror_count > 0u) result += throughput * light_through_mirror(s, l, f, wo, g, up, smp, rays);
 #endif
         }
         float u_lobe = sampler_1d(smp);
         vec2 u = sampler_2d(smp);
         BsdfSample bs;
-        if (!bsdf_sample(l, wo, s.front, u_lobe, u, bs)) break;
-        vec3 wi = to_world(f, bs.wi);
+        vec3 wi;
+        if (!guided_bsdf_sample(g, l, f, wo, s.front, u_lobe, u, bs, wi)) break;
         // With shading normals a sample can cross the geometric surface: reflection must stay
         // on the ray's side and refraction must cross.
         bool crosses = dot(wi, s.ng) < 0.0;

@@ -126,6 +126,7 @@ fn bindings_and_array_strides_match() {
         (BINDING_MIRROR_PROBE, "MirrorProbe", 4),
         (BINDING_MIRRORS, "Mirrors", size_of::<GpuMirror>()),
         (BINDING_MIRROR_PLANES, "MirrorPlanes", size_of::<GpuMirrorPlane>()),
+        (BINDING_CASTERS, "Casters", size_of::<GpuCaster>()),
         (BINDING_TEXTURES, "Textures", size_of::<GpuTexture>()),
         (BINDING_TEXELS, "Texels", 4),
         (BINDING_UVS, "Uvs", size_of::<GpuUv>()),

@@ -168,6 +168,7 @@ pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u
         adaptive: args.adaptive,
         grow_batches: args.samples_per_batch.is_none(),
         mirror_sampling: true,
+        caster_guiding: true,
         stop,
         first_sample: 0,
     }

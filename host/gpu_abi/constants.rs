@@ -93,6 +93,9 @@ shared_constants! {
     BINDING_MIRRORS = 40;
     /// ... and the groups (`GpuMirrorPlane[]`): light sampling picks a plane.
     BINDING_MIRROR_PLANES = 41;
+    /// The path tracer's caustic casters (`GpuCaster[]`, 3 texels each; `crate::prepare::casters`):
+    /// diffuse bounces are partly aimed at them (one zero entry without any).
+    BINDING_CASTERS = 42;
     /// Fractional bits of those sums: a sample's radiance c >= 0 adds round(c 2^24). Integer
     /// sums are exact and the same in any order, so a run split into batches, resumed runs and
     /// merged shards give the same bytes as one run. Quantum 6e-8; a pixel's sum holds up to

@@ -107,6 +107,11 @@ gpu_structs! {
         pub zsobol_log2: u32,
         /// Mirror planes (BINDING_MIRROR_PLANES) to sample light through; 0: none.
         pub mirror_count: u32,
+        /// Caustic casters (BINDING_CASTERS) that diffuse bounces are partly aimed at; 0: none.
+        pub caster_count: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 
     /// A ray for batch queries: origin, tmin, direction, tmax (the `vkrt trace` file layout).
@@ -137,6 +142,6 @@ gpu_structs! {
 
 const _: () = assert!(std::mem::size_of::<GpuFrame>() == 144);
 const _: () = assert!(std::mem::size_of::<GpuPush>() == 80);
-const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 48);
+const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 64);
 const _: () = assert!(std::mem::size_of::<GpuRay>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuHit>() == 32);

@@ -123,6 +123,23 @@ gpu_structs! {
         pub _pad1: u32,
     }
 
+    /// A caustic caster (`crate::prepare::casters`): a curved glossy, mirror or glass piece that
+    /// diffuse bounces are partly aimed at (shaders/include/caster_guide.glsl).
+    pub struct GpuCaster {
+        /// Its bounding sphere.
+        pub center: [f32; 3],
+        pub radius: f32,
+        /// The emissive triangles' bounding sphere, which the spot cone aims to mirror.
+        pub target: [f32; 3],
+        pub target_radius: f32,
+        /// The spot cone's allowance for the lobe's spread (radians); negative: no spot cone
+        /// (glass, not a ball, or no emissive triangles).
+        pub spot_spread: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+
     /// One entry of the light-selection alias table (Vose 1991, "A linear algorithm for
     /// generating random numbers with a given distribution"): pick entry i uniformly, keep it if
     /// u < `threshold`, else take `alias`. `pmf` is the probability of selecting entry i itself,

@@ -7,6 +7,7 @@ pub mod cache;
 pub mod envmap;
 pub mod features;
 pub mod light_table;
+pub mod casters;
 pub mod mirrors;
 pub mod scene_buffers;
 pub mod texture_atlas;

@@ -68,6 +68,10 @@ pub struct GpuScene<'a> {
     pub mirrors: TexelArray<'a>,
     pub mirror_planes: TexelArray<'a>,
     pub mirror_plane_count: u32,
+    /// The caustic casters diffuse bounces are partly aimed at (`GpuCaster[]`, `super::casters`;
+    /// one zero entry without any).
+    pub casters: TexelArray<'a>,
+    pub caster_count: u32,
     pub light_count: u32,
     pub emitter_count: u32,
     /// Entries in `light_picks`.
@@ -104,6 +108,7 @@ impl<'a> GpuScene<'a> {
         // their cache files do not hold it.
         let (materials, mirrors) = super::mirrors::planar_mirrors(a.triangles, a.shading, a.materials);
         let (mirrors, planes) = super::mirrors::by_plane(&mirrors);
+        let casters = super::casters::caustic_casters(a.triangles, a.shading, &materials, a.emitters, !a.lights.is_empty());
         Ok(Self {
             bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?,
             shading: TexelArray::with_data(ctx, "shading data", a.shading, Rgba32Uint)?,
@@ -119,6 +124,8 @@ impl<'a> GpuScene<'a> {
             mirrors: TexelArray::with_data(ctx, "planar mirrors", &mirrors, Rgba32Uint)?,
             mirror_planes: TexelArray::with_data(ctx, "mirror planes", &planes, Rgba32Uint)?,
             mirror_plane_count: planes.len() as u32,
+            casters: TexelArray::with_data(ctx, "caustic casters", &casters, Rgba32Uint)?,
+            caster_count: casters.len() as u32,
             light_count: a.lights.len() as u32,
             emitter_count: a.emitters.len() as u32,
             pick_count: a.picks.len() as u32,
@@ -185,10 +192,12 @@ impl<'a> GpuScene<'a> {
     }
 
     /// Binds what only the path tracer reads: the light-selection table (BINDING_LIGHT_PICKS)
-    /// and the planar mirrors (BINDING_MIRRORS, BINDING_MIRROR_PLANES).
+    /// the planar mirrors (BINDING_MIRRORS, BINDING_MIRROR_PLANES) and the caustic casters
+    /// (BINDING_CASTERS).
     pub fn bind_path_arrays(&self, pipeline: &ComputePipeline) -> Result<()> {
         pipeline.bind_texels(BINDING_LIGHT_PICKS, &self.light_picks.view)?;
         pipeline.bind_texels(BINDING_MIRRORS, &self.mirrors.view)?;
-        pipeline.bind_texels(BINDING_MIRROR_PLANES, &self.mirror_planes.view)
+        pipeline.bind_texels(BINDING_MIRROR_PLANES, &self.mirror_planes.view)?;
+        pipeline.bind_texels(BINDING_CASTERS, &self.casters.view)
     }
 }

@@ -192,6 +192,17 @@ struct GpuMirror {
     uint _pad1;
 };
 
+struct GpuCaster {
+    vec3 center;
+    float radius;
+    vec3 target;
+    float target_radius;
+    float spot_spread;
+    uint _pad0;
+    uint _pad1;
+    uint _pad2;
+};
+
 struct GpuMirrorPlane {
     uint first;
     uint count;
@@ -219,6 +230,10 @@ struct GpuPathParams {
     uint coherence_block_bits;
     uint zsobol_log2;
     uint mirror_count;
+    uint caster_count;
+    uint _pad0;
+    uint _pad1;
+    uint _pad2;
 };
 
 #endif

@@ -41,8 +41,8 @@ bool on_mirror(vec3 m, GpuMirror mr) {
 }
 
 // The light one uniformly picked mirror plane brings to surface s (lobes l, frame f, outgoing
-// wo, shadow rays from `origin`); `rays` counts the shadow rays traced.
-vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout Sampler smp, inout uint rays) {
+// wo, bounce guide g, shadow rays from `origin`); `rays` counts the shadow rays traced.
+vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout Sampler smp, inout uint rays) {
     uint count = params.mirror_count;
     float u_pick = sampler_1d(smp);
     vec2 u = sampler_2d(smp);
@@ -81,6 +81,8 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, vec3 origin, inout
     float bsdf_pdf;
     vec3 fr = bsdf_eval(l, wo, wi, bsdf_pdf);
     if (all(equal(fr, vec3(0.0)))) return vec3(0.0);
+    // BSDF sampling's density, with the share aimed at casters (caster_guide.glsl).
+    bsdf_pdf = guide_mix(g, bsdf_pdf, dir);
     Lobes ml = lobes_of(load_material(mr.material));
     vec3 m_off = offset_ray(m, n, frame.scene_scale);
     rays++;

@@ -52,6 +52,18 @@ GpuMirrorPlane load_mirror_plane(uint i) {
     uvec4 a = texelFetch(mirror_plane_texels, int(i));
     return GpuMirrorPlane(a.x, a.y, a.z, a.w);
 }
+
+// The caustic casters (caster_guide.glsl), 48 B each: center, radius | target, target_radius |
+// spot_spread.
+layout(set = 0, binding = BINDING_CASTERS) uniform utextureBuffer caster_texels;
+
+GpuCaster load_caster(uint i) {
+    uvec4 a = texelFetch(caster_texels, int(3u * i));
+    uvec4 b = texelFetch(caster_texels, int(3u * i + 1u));
+    uvec4 c = texelFetch(caster_texels, int(3u * i + 2u));
+    return GpuCaster(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                     uintBitsToFloat(c.x), c.y, c.z, c.w);
+}
 #endif
 
 #endif

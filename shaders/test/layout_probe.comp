@@ -30,6 +30,7 @@ layout(std430, set = 0, binding = BINDING_TANGENTS) readonly buffer Tangents { G
 layout(std430, set = 0, binding = BINDING_LIGHT_PICKS) readonly buffer LightPicks { GpuLightPick light_picks[]; };
 layout(std430, set = 0, binding = BINDING_MIRRORS) readonly buffer Mirrors { GpuMirror mirrors[]; };
 layout(std430, set = 0, binding = BINDING_MIRROR_PLANES) readonly buffer MirrorPlanes { GpuMirrorPlane mirror_planes[]; };
+layout(std430, set = 0, binding = BINDING_CASTERS) readonly buffer Casters { GpuCaster casters[]; };
 
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
@@ -41,7 +42,7 @@ void main() {
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
             + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
             + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x)
-            + tangents[0].t0.x + mirrors[0].v0.x + float(mirror_planes[0].count);
+            + tangents[0].t0.x + mirrors[0].v0.x + float(mirror_planes[0].count) + casters[0].radius;
     accum[0] = vec4(s);
     hits[0].t = s;
     uvec2 w = uvec2(s);

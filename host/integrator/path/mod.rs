@@ -123,6 +123,11 @@ pub struct PathSettings {
     ///   `crate::prepare::mirrors`): next-event estimation also aims at each light's image in a
     ///   flat mirror, so light a mirror throws onto other surfaces is sampled, not only found.
     pub mirror_sampling: bool,
+    /// Aim a share of diffuse bounces at curved glossy, mirror and glass objects
+    /// (shaders/include/caster_guide.glsl, `crate::prepare::casters`), so that the light they
+    /// throw onto walls (caustics) is found by more than chance; default true (unbiased; false
+    /// only to compare in tests and experiments).
+    pub caster_guiding: bool,
     pub stop: Stop,
     /// The sample index this run starts at (0; a shard's first index, `super::shard`): its
     /// samples are `first_sample ..`, `stop.spp` of them.
@@ -157,6 +162,7 @@ impl Default for PathSettings {
             adaptive: false,
             grow_batches: false,
             mirror_sampling: true,
+            caster_guiding: true,
             stop: Stop { spp: Some(16), ..Stop::default() },
             first_sample: 0,
         }

@@ -25,6 +25,7 @@ pub const PATH_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_MIRROR_PROBE, BindingKind::Storage),
     (BINDING_MIRRORS, BindingKind::Texels),
     (BINDING_MIRROR_PLANES, BindingKind::Texels),
+    (BINDING_CASTERS, BindingKind::Texels),
 ];
 
 /// The settings as the shader reads them, with the scene's light table (already on the GPU).
@@ -57,5 +58,10 @@ pub fn path_params(scene: &GpuScene, settings: &PathSettings) -> Result<GpuPathP
         zsobol_log2: settings.zsobol_log2,
         // The mirror variant samples light through them (`PathSettings::mirror_sampling`).
         mirror_count: if settings.mirror_sampling { scene.mirror_plane_count } else { 0 },
+        // Aiming bounces at them (`PathSettings::caster_guiding`).
+        caster_count: if settings.caster_guiding { scene.caster_count } else { 0 },
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
     })
 }
