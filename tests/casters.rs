@@ -132,3 +132,17 @@ fn guided_bounces_converge_to_the_same_light_with_less_noise() {
     // Less noise: the ball's caustic over the box is aimed at.
     assert!(noise_on < 0.75 * noise_off, "image noise {noise_on} guided, {noise_off} not");
 }
+
+/// A scene without casters (cornell-measured: all diffuse) has none, and guiding on or off
+/// renders the same sums: nothing is drawn or weighted differently, so the feature costs such
+/// scenes no samples and changes no bytes.
+#[test]
+fn a_scene_without_casters_renders_the_same_bytes() {
+    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
+    let ctx = common::gpu_context();
+    let gpu = common::upload(&ctx, &scene);
+    assert_eq!(gpu.caster_count, 0, "cornell-measured has no glossy, mirror or glass pieces");
+    let on = common::render_path_on(&ctx, &gpu, &settings(4, 1, true));
+    let off = common::render_path_on(&ctx, &gpu, &settings(4, 1, false));
+    assert!(on.even == off.even && on.odd == off.odd && on.counts == off.counts, "guiding changed a scene without casters");
+}
