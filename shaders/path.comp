@@ -125,7 +125,8 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         if (nee && has_smooth_lobes(l)) {
             result += throughput * next_event(s, l, f, wo, g, up, smp, rays);
 #ifdef MIRRORS
-            if (params.mirror_count > 0u) result += throughput * light_through_mirror(s, l, f, wo, g, up, smp, rays);
+            // Its path x -> mirror -> light is segments depth + 2 and depth + 3.
+            if (params.mirror_count > 0u && depth + 2u < params.max_depth) result += throughput * light_through_mirror(s, l, f, wo, g, up, smp, rays);
 #endif
         }
         float u_lobe = sampler_1d(smp);

@@ -18,10 +18,13 @@
 // lobe's probability p_spec at m) and from this estimator (1/mirror_count for the plane
 // times the light sample's density): both sides weigh it by the power heuristic of those two
 // (`radiance` on the BSDF side, where a path reaches an emitter right after a planar mirror
-// that a non-delta bounce led to). Only emissive triangles are aimed at: point, spot and
-// directional lights seen in a mirror stay dark as before (no estimator here reaches a delta
-// light by way of a delta mirror; aiming at them is untested, so not on), and the environment
-// is left to BSDF sampling. Measured: docs/experiments/mirror-light.md.
+// that a non-delta bounce led to). Point, spot and cone lights are aimed at too, with weight 1:
+// no other estimator reaches a delta light by way of a delta mirror, so without this they
+// would light nothing through mirrors (tests/mirrors.rs checks the analytic value). Directional
+// lights and the environment have no point to aim at from the image and stay with BSDF
+// sampling (which reaches the environment, not a directional light). The path takes two more
+// segments: `radiance` aims only where max_depth allows them. Measured:
+// docs/experiments/mirror-light.md.
 #ifndef VKRT_MIRROR_LIGHT_GLSL
 #define VKRT_MIRROR_LIGHT_GLSL
 
@@ -62,8 +65,9 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 orig
     if (!(dx > MIRROR_PLANE_MARGIN * frame.scene_scale)) return vec3(0.0);
     vec3 image = s.p - 2.0 * dx * n;
     LightSample ls;
-    // Emissive triangles only (a finite point, and a density BSDF sampling shares).
-    if (!sample_light(image, image, u, ls) || !(ls.pdf > 0.0) || isinf(ls.span_tmax)) return vec3(0.0);
+    // Lights at a finite point: emissive triangles, and point, spot and cone lights (a
+    // directional light or the environment has no point to aim at from the image).
+    if (!sample_light(image, image, u, ls) || isinf(ls.span_tmax)) return vec3(0.0);
     // The sampled point on the light: on x's side of the mirror.
     vec3 y = image + ls.span * ls.span_tmax;
     if (dot(y - mr.v0, n) <= 0.0) return vec3(0.0);
@@ -90,7 +94,8 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 orig
     rays++;
     if (occluded(m_off, y - m_off, 0.0, 1.0)) return vec3(0.0);
     float pick = 1.0 / float(count);
-    float w = power_heuristic(pick * ls.pdf, bsdf_pdf * ml.p_spec);
+    // BSDF sampling cannot reach a delta light (pdf 0) by way of a delta mirror: weight 1.
+    float w = ls.pdf > 0.0 ? power_heuristic(pick * ls.pdf, bsdf_pdf * ml.p_spec) : 1.0;
     return fr * wi.z * ml.ks * ls.li_over_pdf * (w / pick);
 }
 
