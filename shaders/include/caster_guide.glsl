@@ -81,7 +81,7 @@ Guide guide_at(vec3 x, Lobes l, inout Sampler smp) {
     vec3 sp = c.center + c.radius * n;
     // Normals that still reflect some of the lights towards x: half the lights' angular radius
     // seen from the spot, plus the lobe's spread; the spot they span, seen from x.
-    float delta = 0.5 * c.target_radius / max(length(c.target - sp), 1e-6) + c.spot_spread;
+    float delta = 0.5 * c.target_radius / max(length(c.target - sp), 1e-6 * c.radius) + c.spot_spread;
     vec3 v = sp - x;
     float dist = length(v);
     float half_angle = min(c.radius * delta / dist, SPOT_MAX_ANGLE);
