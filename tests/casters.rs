@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::noise::image_noise;
 use vkrt::integrator::path::PathSettings;
 use vkrt::integrator::Image;
 
@@ -54,7 +55,6 @@ fn uv_sphere(c: [f32; 3], r: f32, rings: u32, segments: u32) -> (String, String)
 /// ball (Ks 1, Ns 1000, as CornellBox-Sphere's) on the floor: it throws the lamp's light over
 /// the walls, floor and ceiling, light that only a bounce hitting its small bright spot finds.
 fn box_with_a_glossy_ball(test: &str) -> vkrt::scene::Scene {
-    let dir = common::scratch_dir(&format!("casters_{test}"));
     let mtl = "newmtl white\nKd 0.7 0.7 0.7\n\
                newmtl light\nKd 0 0 0\nKe 25 25 25\n\
                newmtl ball\nKd 0.8 0.8 0.8\nKs 1 1 1\nNs 1000\n";
@@ -80,9 +80,7 @@ fn box_with_a_glossy_ball(test: &str) -> vkrt::scene::Scene {
         w(2), w(3), w(7), w(6),
         w(9), w(10), w(11), w(12)
     );
-    std::fs::write(dir.join("box.mtl"), mtl).unwrap();
-    std::fs::write(dir.join("box.obj"), obj).unwrap();
-    vkrt::scene::load_scene(&dir.join("box.obj")).unwrap()
+    common::noise::load_obj_text(&format!("casters_{test}"), &obj, mtl)
 }
 
 fn settings(spp: u64, seed: u32, guiding: bool) -> PathSettings {
@@ -90,17 +88,6 @@ fn settings(spp: u64, seed: u32, guiding: bool) -> PathSettings {
     s.image.seed = seed;
     s.caster_guiding = guiding;
     s
-}
-
-fn luminance(image: &Image, (x, y): (u32, u32)) -> f64 {
-    image.get(x, y).iter().map(|&c| f64::from(c)).sum::<f64>() / 3.0
-}
-
-/// The root mean square difference between two renders with other seeds, over sqrt(2): the
-/// noise of one.
-fn image_noise(a: &Image, b: &Image) -> f64 {
-    let pixels = (0..SIZE).flat_map(|y| (0..SIZE).map(move |x| (x, y)));
-    (pixels.map(|p| (luminance(a, p) - luminance(b, p)).powi(2)).sum::<f64>() / f64::from(SIZE * SIZE) / 2.0).sqrt()
 }
 
 #[test]

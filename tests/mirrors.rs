@@ -12,6 +12,7 @@
 
 mod common;
 
+use common::noise::{image_noise, luminance, noise_over};
 use common::procedural::quad;
 use glam::Vec3;
 use vkrt::integrator::path::{self, Accumulation, PathSettings};
@@ -27,7 +28,6 @@ const SIZE: u32 = 48;
 /// the panel also throws the lamp's light onto the floor (light through a planar mirror).
 fn open_box_with_a_dark_mirror(test: &str) -> vkrt::scene::Scene {
     // A directory per test: tests run in parallel.
-    let dir = common::scratch_dir(&format!("mirrors_{test}"));
     let mtl = "newmtl white\nKd 0.7 0.7 0.7\n\
                newmtl light\nKd 0 0 0\nKe 12 12 12\n\
                newmtl mirror\nKd 0.5 0.5 0.5\nKs 0.8 0.8 0.8\nillum 5\n";
@@ -43,9 +43,7 @@ fn open_box_with_a_dark_mirror(test: &str) -> vkrt::scene::Scene {
         f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 1 5 8 4\nf 2 3 7 6\n\
         usemtl light\nf 9 10 11 12\n\
         usemtl mirror\nf 13 14 15 16\nf 14 15 16 13\n";
-    std::fs::write(dir.join("box.mtl"), mtl).unwrap();
-    std::fs::write(dir.join("box.obj"), obj).unwrap();
-    vkrt::scene::load_scene(&dir.join("box.obj")).unwrap()
+    common::noise::load_obj_text(&format!("mirrors_{test}"), obj, mtl)
 }
 
 fn settings(spp: u64, seed: u32, mirror_sampling: bool) -> PathSettings {
@@ -61,25 +59,15 @@ fn centre() -> impl Iterator<Item = (u32, u32)> {
     (lo..lo + 8).flat_map(move |y| (lo..lo + 8).map(move |x| (x, y)))
 }
 
-fn luminance(image: &Image, (x, y): (u32, u32)) -> f64 {
-    image.get(x, y).iter().map(|&c| f64::from(c)).sum::<f64>() / 3.0
-}
-
 /// The centre's mean luminance.
 fn centre_mean(image: &Image) -> f64 {
     centre().map(|p| luminance(image, p)).sum::<f64>() / 64.0
 }
 
-/// The noise over the whole image, as `centre_noise`.
-fn image_noise(a: &Image, b: &Image) -> f64 {
-    let pixels = (0..SIZE).flat_map(|y| (0..SIZE).map(move |x| (x, y)));
-    (pixels.map(|p| (luminance(a, p) - luminance(b, p)).powi(2)).sum::<f64>() / f64::from(SIZE * SIZE) / 2.0).sqrt()
-}
 
-/// The noise in the centre: the root mean square difference between two renders with other
-/// seeds, per pixel (the panel's own shading cancels out), over sqrt(2).
+/// The noise in the centre (common::noise::noise_over).
 fn centre_noise(a: &Image, b: &Image) -> f64 {
-    (centre().map(|p| (luminance(a, p) - luminance(b, p)).powi(2)).sum::<f64>() / 64.0 / 2.0).sqrt()
+    noise_over(a, b, centre())
 }
 
 #[test]

@@ -3,6 +3,7 @@
 
 pub mod closed_meshes;
 pub mod gltf_writer;
+pub mod noise;
 pub mod procedural;
 
 use vkrt::gpu::{Context, ContextOptions, Validation};
