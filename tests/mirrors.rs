@@ -114,10 +114,10 @@ fn a_resumed_run_probes_again_and_continues_bit_for_bit() {
     assert!(off.even != straight.even, "the probe did not act on the dark mirror");
 }
 
-/// A Lambert floor (albedo 0.5, z = 0, facing +z) seen from straight above, a point light of
-/// intensity 32 at height 4 above the camera's target, and a flat mirror (Ks 0.8, no Lambert
-/// lobe) standing on the plane x = 1, facing the target.
-fn floor_beside_a_mirror() -> Scene {
+/// A Lambert floor (albedo 0.5, z = 0, facing +z) seen from straight above, lit by `light`,
+/// and a flat mirror (Ks 0.8, no Lambert lobe) standing on the plane x = 1, facing the camera's
+/// target (the origin).
+fn floor_beside_a_mirror(light: Light) -> Scene {
     let floor = Material { name: "floor".into(), diffuse: Vec3::splat(0.5), ..Material::default() };
     let mirror = Material { name: "mirror".into(), illum: 3, specular: Vec3::splat(0.8), diffuse: Vec3::ZERO, ..Material::default() };
     let mut triangles = quad(Vec3::new(-50.0, -50.0, 0.0), Vec3::new(100.0, 0.0, 0.0), Vec3::new(0.0, 100.0, 0.0), 0).to_vec();
@@ -126,7 +126,7 @@ fn floor_beside_a_mirror() -> Scene {
     Scene {
         triangles,
         materials: vec![floor, mirror],
-        lights: vec![Light::Point { position: Vec3::new(0.0, 0.0, 4.0), intensity: Vec3::splat(32.0) }],
+        lights: vec![light],
         camera: Camera { eye: Vec3::new(0.0, 0.0, 10.0), target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 10.0, ..Camera::default() },
         ..Scene::default()
     }
@@ -141,15 +141,33 @@ fn a_point_light_seen_in_a_flat_mirror_lights_the_floor_by_its_analytic_value() 
     // its second floor hit), so the answer is exact up to the pixel's footprint (< 0.5 %).
     // Without aiming through the mirror BSDF sampling cannot find this light (a delta light by
     // way of a delta mirror): the floor would show direct light only.
-    let scene = floor_beside_a_mirror();
     let (rho, i) = (0.5f32, 32.0f32);
+    let scene = floor_beside_a_mirror(Light::Point { position: Vec3::new(0.0, 0.0, 4.0), intensity: Vec3::splat(i) });
     let direct = rho / std::f32::consts::PI * i / 16.0;
     let through = rho / std::f32::consts::PI * 0.8 * i * (4.0 / 20f32.sqrt()) / 20.0;
+    assert_mirror_adds(&scene, direct, through);
+}
+
+#[test]
+fn a_sun_seen_in_a_flat_mirror_lights_the_floor_by_its_analytic_value() {
+    // A directional light of irradiance E from (-0.6, 0, 0.8): E cos = 0.8 E directly, and
+    // reflected in the mirror (plane x = 1) it arrives from (0.6, 0, 0.8), through the mirror at
+    // (1, 0, 4/3) seen from the origin: another 0.8 Ks E.
+    let (rho, e) = (0.5f32, 2.0f32);
+    let scene = floor_beside_a_mirror(Light::Directional { direction: Vec3::new(-0.6, 0.0, 0.8), intensity: Vec3::splat(e) });
+    let direct = rho / std::f32::consts::PI * e * 0.8;
+    assert_mirror_adds(&scene, direct, 0.8 * direct);
+}
+
+/// The floor's centre pixel is `direct + through` with light aimed through the mirror (at most
+/// 3 segments per path, so nothing else reaches it), `direct` without, and `direct` at max
+/// depth 2 (the mirror's path has three segments), each within 1 %.
+fn assert_mirror_adds(scene: &Scene, direct: f32, through: f32) {
     let centre = |max_depth: u32, mirror_sampling: bool| {
         let mut s = common::path_settings(8, 8, 4);
         s.max_depth = Some(max_depth);
         s.mirror_sampling = mirror_sampling;
-        common::render_path(&scene, &s).image().get(4, 4)
+        common::render_path(scene, &s).image().get(4, 4)
     };
     for c in centre(3, true) {
         assert!((c / (direct + through) - 1.0).abs() < 0.01, "with the mirror: {c} vs {}", direct + through);

@@ -18,13 +18,12 @@
 // lobe's probability p_spec at m) and from this estimator (1/mirror_count for the plane
 // times the light sample's density): both sides weigh it by the power heuristic of those two
 // (`radiance` on the BSDF side, where a path reaches an emitter right after a planar mirror
-// that a non-delta bounce led to). Point, spot and cone lights are aimed at too, with weight 1:
-// no other estimator reaches a delta light by way of a delta mirror, so without this they
-// would light nothing through mirrors (tests/mirrors.rs checks the analytic value). Directional
-// lights and the environment have no point to aim at from the image and stay with BSDF
-// sampling (which reaches the environment, not a directional light). The path takes two more
-// segments: `radiance` aims only where max_depth allows them. Measured:
-// docs/experiments/mirror-light.md.
+// that a non-delta bounce led to). Point, spot, cone and directional lights are aimed at too,
+// with weight 1: no other estimator reaches a delta light by way of a delta mirror, so without
+// this they would light nothing through mirrors (tests/mirrors.rs checks the analytic values;
+// a directional light is aimed at along its direction from the image). The environment is left
+// to BSDF sampling, which reaches it past a mirror. The path takes two more segments: `radiance`
+// aims only where max_depth allows them. Measured: docs/experiments/mirror-light.md.
 #ifndef VKRT_MIRROR_LIGHT_GLSL
 #define VKRT_MIRROR_LIGHT_GLSL
 
@@ -65,12 +64,14 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 orig
     if (!(dx > MIRROR_PLANE_MARGIN * frame.scene_scale)) return vec3(0.0);
     vec3 image = s.p - 2.0 * dx * n;
     LightSample ls;
-    // Lights at a finite point: emissive triangles, and point, spot and cone lights (a
-    // directional light or the environment has no point to aim at from the image).
-    if (!sample_light(image, image, u, ls) || isinf(ls.span_tmax)) return vec3(0.0);
-    // The sampled point on the light: on x's side of the mirror.
-    vec3 y = image + ls.span * ls.span_tmax;
-    if (dot(y - mr.v0, n) <= 0.0) return vec3(0.0);
+    if (!sample_light(image, image, u, ls)) return vec3(0.0);
+    // A directional light (delta, pdf 0) is at infinity along ls.wi; the environment (pdf > 0)
+    // is left to BSDF sampling, which reaches it past the mirror.
+    bool distant = isinf(ls.span_tmax);
+    if (distant && ls.pdf > 0.0) return vec3(0.0);
+    // The sampled point on the light (or the light's direction): on x's side of the mirror.
+    vec3 y = distant ? vec3(0.0) : image + ls.span * ls.span_tmax;
+    if ((distant ? dot(ls.wi, n) : dot(y - mr.v0, n)) <= 0.0) return vec3(0.0);
     // The direction from x to the mirror: the image ray reflected in the plane.
     vec3 dir = reflect(ls.wi, n);
     float dn = dot(dir, n);
@@ -92,7 +93,7 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 orig
     rays++;
     if (occluded(origin, m_off - origin, 0.0, 1.0)) return vec3(0.0);
     rays++;
-    if (occluded(m_off, y - m_off, 0.0, 1.0)) return vec3(0.0);
+    if (distant ? occluded(m_off, ls.wi, 0.0, 1.0 / 0.0) : occluded(m_off, y - m_off, 0.0, 1.0)) return vec3(0.0);
     float pick = 1.0 / float(count);
     // BSDF sampling cannot reach a delta light (pdf 0) by way of a delta mirror: weight 1.
     float w = ls.pdf > 0.0 ? power_heuristic(pick * ls.pdf, bsdf_pdf * ml.p_spec) : 1.0;
