@@ -121,7 +121,11 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         vec3 wo = to_local(f, -dir);
         vec3 up = offset_ray(s.p, s.ng, frame.scene_scale);
         // Before light sampling, whose MIS weights must use the bounce's density with the guide.
+#ifdef CASTERS
         Guide g = params.caster_count > 0u ? guide_at(s.p, l, smp) : guide_none();
+#else
+        Guide g = guide_none();
+#endif
         if (nee && has_smooth_lobes(l)) {
             result += throughput * next_event(s, l, f, wo, g, up, smp, rays);
 #ifdef MIRRORS

@@ -13,6 +13,10 @@ pub enum Tracing {
     Path,
     /// The path tracer with the mirror probe pass compiled in (scenes with mirror materials).
     PathMirrors,
+    /// The path tracer aiming diffuse bounces at caustic casters (scenes with casters), without
+    /// and with the mirror code.
+    PathCasters,
+    PathMirrorsCasters,
     Trace,
 }
 
@@ -23,6 +27,8 @@ impl Tracing {
             Tracing::Whitted => &WHITTED,
             Tracing::Path => &PATH,
             Tracing::PathMirrors => &PATH_MIRRORS,
+            Tracing::PathCasters => &PATH_CASTERS,
+            Tracing::PathMirrorsCasters => &PATH_MIRRORS_CASTERS,
             Tracing::Trace => &TRACE,
         };
         builds[layout as usize]
@@ -33,6 +39,8 @@ impl Tracing {
             Tracing::Whitted => "whitted",
             Tracing::Path => "path",
             Tracing::PathMirrors => "path_mirrors",
+            Tracing::PathCasters => "path_casters",
+            Tracing::PathMirrorsCasters => "path_mirrors_casters",
             Tracing::Trace => "trace",
         }
     }

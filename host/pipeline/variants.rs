@@ -40,6 +40,11 @@ pub const SHADERS: &[Shader] = &[
     // in `path` that code would cost every other scene ~16 ms of pipeline creation on
     // lavapipe (SPIR-V is parsed before specialization constants can drop code).
     Shader { name: "path_mirrors", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS"], per_layout: true, role: Role::Product },
+    // The same two with diffuse bounces aimed at caustic casters (caster_guide.glsl), for scenes
+    // with casters (prepare::casters): in `path` that code cost every other scene ~25 ms of
+    // pipeline creation (0.092 -> 0.12 s for a 16² 1-spp render, median of 6).
+    Shader { name: "path_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "CASTERS"], per_layout: true, role: Role::Product },
+    Shader { name: "path_mirrors_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS", "CASTERS"], per_layout: true, role: Role::Product },
     // Batch ray queries see geometry only.
     Shader { name: "trace", source: "trace.comp", defines: &[], per_layout: true, role: Role::Product },
     // The textbook intersection tests, only to measure what the robust ones cost

@@ -15,7 +15,10 @@
 // aims at is drawn once per vertex, before light sampling, and both strategies' weights use
 // the density given that choice (unbiased for each choice). Vertices with a Lambert lobe only
 // (a mirror or glass vertex has no use for it); scenes without casters never enter this
-// (params.caster_count 0: the same samples and bytes as before). Measured:
+// (params.caster_count 0: the same samples and bytes as before), and the aiming code is compiled
+// only into the `path_casters` and `path_mirrors_casters` variants (define CASTERS), which the
+// host runs for scenes with casters: elsewhere it cost ~25 ms of lavapipe pipeline creation
+// (SPIR-V is parsed before specialization). Measured:
 // docs/experiments/caster-guiding.md.
 #ifndef VKRT_CASTER_GUIDE_GLSL
 #define VKRT_CASTER_GUIDE_GLSL
@@ -56,6 +59,7 @@ Guide guide_none() {
 
 // The guide at point x with lobes l: picks a caster (a sample dimension when there are
 // several) and sets up its cones. Not at mirror or glass vertices, nor inside a caster's sphere.
+#ifdef CASTERS
 Guide guide_at(vec3 x, Lobes l, inout Sampler smp) {
     Guide g = guide_none();
     uint count = params.caster_count;
@@ -95,6 +99,8 @@ Guide guide_at(vec3 x, Lobes l, inout Sampler smp) {
     return g;
 }
 
+#endif
+
 // The guide's own density of world direction w (solid angle).
 float guide_density(Guide g, vec3 w) {
     float p = 0.0;
@@ -122,6 +128,7 @@ vec3 sample_in_cone(vec3 axis, float omc, vec2 u) {
 // bsdf_sample with the guide's share aimed: bs as bsdf_sample gives it (local frame f; density
 // and weight the mixture's), wi the direction in world space.
 bool guided_bsdf_sample(Guide g, Lobes l, Onb f, vec3 wo, bool front, float u_lobe, vec2 u, out BsdfSample bs, out vec3 wi) {
+#ifdef CASTERS
     if (g.share > 0.0 && u_lobe < g.share) {
         float v = u_lobe / g.share;
         wi = v < g.spot_share ? sample_in_cone(g.spot_axis, g.spot_omc, u) : sample_in_cone(g.cone_axis, g.cone_omc, u);
@@ -137,6 +144,7 @@ bool guided_bsdf_sample(Guide g, Lobes l, Onb f, vec3 wo, bool front, float u_lo
         bs.weight = fr * bs.wi.z / bs.pdf;
         return true;
     }
+#endif
     if (g.share > 0.0) u_lobe = min((u_lobe - g.share) / (1.0 - g.share), ONE_MINUS_EPSILON);
     if (!bsdf_sample(l, wo, front, u_lobe, u, bs)) {
         wi = vec3(0.0);

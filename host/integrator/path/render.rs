@@ -89,7 +89,14 @@ impl<'a> PathGpu<'a> {
         let probe_bytes = if probes_mirrors { pixels * 4 } else { 4 };
         let mirror_probe = Buffer::new(ctx, "mirror probe", probe_bytes, storage, MemoryLocation::Device)?;
         mirror_probe.clear()?;
-        let shader = if probes_mirrors { Tracing::PathMirrors } else { Tracing::Path };
+        // Scenes with caustic casters (prepare::casters) run the variant that aims at them.
+        let casters = settings.caster_guiding && scene.caster_count > 0;
+        let shader = match (probes_mirrors, casters) {
+            (false, false) => Tracing::Path,
+            (true, false) => Tracing::PathMirrors,
+            (false, true) => Tracing::PathCasters,
+            (true, true) => Tracing::PathMirrorsCasters,
+        };
         let pipeline = ComputePipeline::specialized(
             ctx,
             shader.name(),
