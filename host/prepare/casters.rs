@@ -14,6 +14,7 @@
 //!
 //! Decided at every upload from the triangles, like the planar mirrors (`super::mirrors`).
 
+use crate::geom::Aabb;
 use crate::gpu_abi::constants::*;
 use crate::gpu_abi::{GpuCaster, GpuEmitter, GpuMaterial, GpuShading, GpuTriangle};
 use glam::Vec3;
@@ -70,10 +71,10 @@ fn cast_of(m: &GpuMaterial) -> Option<Cast> {
 /// The casters of a scene: each connected piece (triangles joined by shared vertex positions)
 /// of the triangles whose material casts, as its bounding sphere; none if there are more than
 /// [`MAX_CASTERS`] or nothing emits light of any kind (`lights_present`); pieces larger than
-/// [`MAX_SCENE_SHARE`] of the scene are left out. `materials` as
-/// uploaded (planar mirrors flagged). The spot is aimed at the emissive triangles' bounding
-/// sphere; without emissive triangles only the whole-cone share is drawn.
-pub fn caustic_casters(triangles: &[GpuTriangle], shading: &[GpuShading], materials: &[GpuMaterial], emitters: &[GpuEmitter], lights_present: bool) -> Vec<GpuCaster> {
+/// [`MAX_SCENE_SHARE`] of the scene's bounding radius (`SceneInfo::radius`) are left out.
+/// `materials` as uploaded (planar mirrors flagged). The spot is aimed at the emissive
+/// triangles' bounding sphere; without emissive triangles only the whole-cone share is drawn.
+pub fn caustic_casters(triangles: &[GpuTriangle], shading: &[GpuShading], materials: &[GpuMaterial], emitters: &[GpuEmitter], lights_present: bool, scene_radius: f32) -> Vec<GpuCaster> {
     if !lights_present && emitters.is_empty() {
         return Vec::new();
     }
@@ -131,22 +132,19 @@ pub fn caustic_casters(triangles: &[GpuTriangle], shading: &[GpuShading], materi
             (Cast::Through, Cast::Through) => Cast::Through,
         };
     }
-    let Some((_, scene_radius)) = bounding_sphere(triangles.iter().flat_map(|t| [t.v0, t.v1, t.v2].map(Vec3::from))) else {
-        return Vec::new();
-    };
-    let target = bounding_sphere(emitters.iter().flat_map(|e| [e.v0, e.v1, e.v2].map(Vec3::from)));
+    let emitter_vertices: Vec<Vec3> = emitters.iter().flat_map(|e| [e.v0, e.v1, e.v2].map(Vec3::from)).collect();
+    let target = bounding_sphere(&emitter_vertices);
     pieces
         .into_iter()
         .filter_map(|(_, vertices, cast)| {
-            let (center, radius) = bounding_sphere(vertices.iter().copied())?;
+            let (center, radius, bounds) = bounding_sphere(&vertices)?;
             if radius.is_nan() || radius <= 0.0 || radius > MAX_SCENE_SHARE * scene_radius {
                 return None;
             }
             let nearest = vertices.iter().map(|v| v.distance(center)).fold(f32::INFINITY, f32::min);
-            let (lo, hi) = bounds(vertices.iter().copied())?;
-            let ball = nearest >= BALL_MIN_RADIUS_SHARE * radius && (hi - lo).min_element() >= BALL_MIN_RADIUS_SHARE * 2.0 * radius;
+            let ball = nearest >= BALL_MIN_RADIUS_SHARE * radius && bounds.extent().min_element() >= BALL_MIN_RADIUS_SHARE * 2.0 * radius;
             let (target, target_radius, spread) = match (cast, target, ball) {
-                (Cast::Reflect(s), Some((c, r)), true) => (c, r, s),
+                (Cast::Reflect(s), Some((c, r, _)), true) => (c, r, s),
                 _ => (Vec3::ZERO, 0.0, -1.0),
             };
             Some(GpuCaster {
@@ -164,20 +162,15 @@ pub fn caustic_casters(triangles: &[GpuTriangle], shading: &[GpuShading], materi
 }
 
 /// The sphere around the points' box centre through the farthest point (not the smallest
-/// sphere, but a cone from it still holds every point), or None without finite points.
-fn bounding_sphere(points: impl Iterator<Item = Vec3> + Clone) -> Option<(Vec3, f32)> {
-    let (lo, hi) = bounds(points.clone())?;
-    let center = 0.5 * (lo + hi);
-    let radius = points.filter(|p| p.is_finite()).map(|p| p.distance(center)).fold(0.0f32, f32::max);
-    Some((center, radius))
-}
-
-/// The finite points' box, or None without any.
-fn bounds(points: impl Iterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
-    points.filter(|p| p.is_finite()).fold(None, |acc, p| match acc {
-        None => Some((p, p)),
-        Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
-    })
+/// sphere, but a cone from it still holds every point), and the box; None without points.
+fn bounding_sphere(points: &[Vec3]) -> Option<(Vec3, f32, Aabb)> {
+    let bounds = Aabb::from_points(points);
+    if bounds.is_empty() {
+        return None;
+    }
+    let center = bounds.center();
+    let radius = points.iter().map(|p| p.distance(center)).fold(0.0f32, f32::max);
+    Some((center, radius, bounds))
 }
 
 #[cfg(test)]
@@ -204,14 +197,8 @@ mod tests {
         faces.iter().enumerate().map(|(i, &(a, b, d))| triangle(prim0 + i as u32, [p(a), p(b), p(d)])).collect()
     }
 
-    /// A floor of 6 x 6 around the origin, of a material no test defines (so no caster): the
-    /// room that makes the casters small against the scene.
-    fn room(tris: &mut Vec<GpuTriangle>, shades: &mut Vec<GpuShading>) {
-        let prim = shades.len() as u32;
-        tris.push(triangle(prim, [[-3.0, -1.0, -3.0], [3.0, -1.0, -3.0], [3.0, -1.0, 3.0]]));
-        tris.push(triangle(prim + 1, [[-3.0, -1.0, -3.0], [3.0, -1.0, 3.0], [-3.0, -1.0, 3.0]]));
-        shades.extend([shading(99), shading(99)]);
-    }
+    /// The bounding radius of the scene the test casters stand in: large against them.
+    const ROOM_RADIUS: f32 = 5.0;
 
     fn emitter() -> GpuEmitter {
         GpuEmitter { v0: [-0.5, 2.0, -0.5], v1: [0.5, 2.0, -0.5], v2: [0.5, 2.0, 0.5], ..bytemuck::Zeroable::zeroed() }
@@ -234,10 +221,9 @@ mod tests {
 
     #[test]
     fn a_ball_is_one_caster_aimed_at_the_lights() {
-        let mut tris = octahedron(Vec3::new(0.0, 0.5, 0.0), 0.3, 0);
-        let mut shades: Vec<GpuShading> = (0..8).map(|_| shading(0)).collect();
-        room(&mut tris, &mut shades);
-        let casters = caustic_casters(&tris, &shades, &[material(0, 1.0, 1000.0)], &[emitter()], false);
+        let tris = octahedron(Vec3::new(0.0, 0.5, 0.0), 0.3, 0);
+        let shades: Vec<GpuShading> = (0..8).map(|_| shading(0)).collect();
+        let casters = caustic_casters(&tris, &shades, &[material(0, 1.0, 1000.0)], &[emitter()], false, ROOM_RADIUS);
         assert_eq!(casters.len(), 1);
         let c = casters[0];
         assert!(Vec3::from(c.center).distance(Vec3::new(0.0, 0.5, 0.0)) < 1e-6);
@@ -252,28 +238,26 @@ mod tests {
         let mut tris = octahedron(Vec3::ZERO, 0.3, 0);
         tris.extend(octahedron(Vec3::new(2.0, 0.0, 0.0), 0.3, 8));
         let shades: Vec<GpuShading> = (0..16).map(|_| shading(0)).collect();
-        let casters = caustic_casters(&tris, &shades, &[material(MATERIAL_DIELECTRIC, 0.0, 0.0)], &[emitter()], false);
+        let casters = caustic_casters(&tris, &shades, &[material(MATERIAL_DIELECTRIC, 0.0, 0.0)], &[emitter()], false, ROOM_RADIUS);
         assert_eq!(casters.len(), 2);
         assert!(casters.iter().all(|c| c.spot_spread < 0.0 && (c.radius - 0.3).abs() < 1e-6));
     }
 
     #[test]
     fn no_spot_without_emitters_or_for_a_non_ball() {
-        let mut tris = octahedron(Vec3::ZERO, 0.3, 0);
-        let mut shades: Vec<GpuShading> = (0..8).map(|_| shading(0)).collect();
-        room(&mut tris, &mut shades);
+        let tris = octahedron(Vec3::ZERO, 0.3, 0);
+        let shades: Vec<GpuShading> = (0..8).map(|_| shading(0)).collect();
         let mats = [material(0, 1.0, 1000.0)];
         // A point light only: aimed at as a whole, not by spot.
-        let casters = caustic_casters(&tris, &shades, &mats, &[], true);
+        let casters = caustic_casters(&tris, &shades, &mats, &[], true, ROOM_RADIUS);
         assert_eq!(casters.len(), 1);
         assert!(casters[0].spot_spread < 0.0);
         // Nothing emits: nothing to aim for.
-        assert!(caustic_casters(&tris, &shades, &mats, &[], false).is_empty());
+        assert!(caustic_casters(&tris, &shades, &mats, &[], false, ROOM_RADIUS).is_empty());
         // A flat glossy quad is not a ball.
-        let mut quad = vec![triangle(0, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]), triangle(1, [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])];
-        let mut quad_shades = vec![shading(0), shading(0)];
-        room(&mut quad, &mut quad_shades);
-        let casters = caustic_casters(&quad, &quad_shades, &mats, &[emitter()], false);
+        let quad = [triangle(0, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]), triangle(1, [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])];
+        let quad_shades = [shading(0), shading(0)];
+        let casters = caustic_casters(&quad, &quad_shades, &mats, &[emitter()], false, ROOM_RADIUS);
         assert_eq!(casters.len(), 1);
         assert!(casters[0].spot_spread < 0.0);
     }
@@ -285,7 +269,9 @@ mod tests {
         let mut shades: Vec<GpuShading> = (0..8).map(|_| shading(0)).collect();
         shades.extend((0..8).map(|_| shading(1)));
         let mats = [material(0, 1.0, 1000.0), material(MATERIAL_DIELECTRIC, 0.0, 0.0)];
-        let casters = caustic_casters(&tris, &shades, &mats, &[emitter()], false);
+        // The large piece is the scene: its bounding radius is half its box's diagonal.
+        let scene_radius = 2.0 * 3f32.sqrt();
+        let casters = caustic_casters(&tris, &shades, &mats, &[emitter()], false, scene_radius);
         assert_eq!(casters.len(), 1);
         assert!((casters[0].radius - 0.3).abs() < 1e-6);
     }
@@ -297,7 +283,7 @@ mod tests {
             tris.extend(octahedron(Vec3::new(i as f32, 0.0, 0.0), 0.2, 8 * i as u32));
         }
         let shades: Vec<GpuShading> = (0..tris.len()).map(|_| shading(0)).collect();
-        assert!(caustic_casters(&tris, &shades, &[material(0, 1.0, 1000.0)], &[emitter()], false).is_empty());
-        assert_eq!(caustic_casters(&tris[8..], &shades, &[material(0, 1.0, 1000.0)], &[emitter()], false).len(), MAX_CASTERS);
+        assert!(caustic_casters(&tris, &shades, &[material(0, 1.0, 1000.0)], &[emitter()], false, ROOM_RADIUS).is_empty());
+        assert_eq!(caustic_casters(&tris[8..], &shades, &[material(0, 1.0, 1000.0)], &[emitter()], false, ROOM_RADIUS).len(), MAX_CASTERS);
     }
 }

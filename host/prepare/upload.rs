@@ -108,7 +108,7 @@ impl<'a> GpuScene<'a> {
         // their cache files do not hold it.
         let (materials, mirrors) = super::mirrors::planar_mirrors(a.triangles, a.shading, a.materials);
         let (mirrors, planes) = super::mirrors::by_plane(&mirrors);
-        let casters = super::casters::caustic_casters(a.triangles, a.shading, &materials, a.emitters, !a.lights.is_empty());
+        let casters = super::casters::caustic_casters(a.triangles, a.shading, &materials, a.emitters, !a.lights.is_empty(), info.radius);
         Ok(Self {
             bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?,
             shading: TexelArray::with_data(ctx, "shading data", a.shading, Rgba32Uint)?,
