@@ -53,6 +53,16 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout 
     return fr * wi.z * ls.li_over_pdf * w;
 }
 
+// The solid-angle density with which light sampling would have picked the emitter point of
+// surface s (material m), reached along unit `dir` by a path `dist` long from where light
+// sampling aims: its area density over the projected solid angle. Light sampling weighs an
+// emitter by its emission factor, without the texture.
+float emitter_hit_pdf(Surface s, GpuMaterial m, vec3 dir, float dist) {
+    float cos_light = dot(s.ng, -dir);
+    vec3 ke = HAS_TEXTURES ? load_material(s.material).emission : m.emission;
+    return emitter_area_pdf(ke) * dist * dist / max(cos_light, 1e-12);
+}
+
 // The radiance along the camera ray (origin, dir); `rays` counts the rays traced for it.
 // `first_p_spec` > 0: the mirror lobe's probability at the first hit (mirror_probe.glsl).
 vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float first_p_spec) {
@@ -88,23 +98,13 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         GpuMaterial m = material_at(h, s);
         if (HAS_EMITTERS && s.front && (m.flags & MATERIAL_EMISSIVE) != 0u) {
             float w = 1.0;
-            if (nee && !prev_delta) {
-                // The density light sampling would have had for this point, in solid angle
-                // (dir is unit, so h.t is the distance).
-                float cos_light = dot(s.ng, -dir);
-                // Light sampling weighs an emitter by its emission factor, without the texture.
-                vec3 ke = HAS_TEXTURES ? load_material(s.material).emission : m.emission;
-                float light_pdf = emitter_area_pdf(ke) * h.t * h.t / max(cos_light, 1e-12);
-                w = power_heuristic(prev_pdf, light_pdf);
-            }
+            // dir is unit, so h.t is the distance.
+            if (nee && !prev_delta) w = power_heuristic(prev_pdf, emitter_hit_pdf(s, m, dir, h.t));
 #ifdef MIRRORS
+            // Light sampling through that mirror would have aimed at this point from the image
+            // of the bounce's point: the whole path's length, this cosine.
             else if (nee && mirror_pdf > 0.0) {
-                // Light sampling through that mirror would have aimed at this point from the
-                // image of the bounce's point: the whole path's length, this cosine.
-                float cos_light = dot(s.ng, -dir);
-                vec3 ke = HAS_TEXTURES ? load_material(s.material).emission : m.emission;
-                float len = mirror_dist + h.t;
-                float light_pdf = emitter_area_pdf(ke) * len * len / max(cos_light, 1e-12);
+                float light_pdf = emitter_hit_pdf(s, m, dir, mirror_dist + h.t);
                 w = power_heuristic(mirror_pdf, light_pdf / float(params.mirror_count));
             }
 #endif
