@@ -292,17 +292,19 @@ fn sah_beats_median_on_random_soups() {
 
 /// The quality ladder the builders' docs promise: the full sweep tries a superset of the binned
 /// planes (so it is at least as good, up to greedy effects a few percent wide), and reinsertion
-/// only accepts moves that lower the cost.
+/// only accepts moves that lower the cost of the binned tree it starts from. A random soup is
+/// its hardest case (no structure for a move to recover): there it lands near the sweep's cost,
+/// on the shared scenes below it (reinsertion-default.md).
 #[test]
-fn sweep_beats_binned_and_reinsertion_beats_sweep() {
+fn sweep_beats_binned_and_reinsertion_improves_on_binned() {
     for seed in 0..3 {
         let (boxes, centroids) = tri_boxes(&random_soup(20_000, 200 + seed));
         let config = BuildConfig::default();
         let cost = |kind| sah_cost(&build_valid(kind, &boxes, &centroids, &config));
         let (binned, sweep, reinserted) = (cost(BuilderKind::Sah), cost(BuilderKind::SweepSah), cost(BuilderKind::Reinsertion));
         assert!(sweep <= binned * 1.02, "seed {seed}: sweep {sweep} vs binned {binned}");
-        assert!(reinserted <= sweep, "seed {seed}: reinsertion {reinserted} vs sweep {sweep}");
         assert!(reinserted < binned, "seed {seed}: reinsertion {reinserted} vs binned {binned}");
+        assert!(reinserted <= sweep * 1.03, "seed {seed}: reinsertion {reinserted} vs sweep {sweep}");
     }
 }
 
@@ -689,5 +691,24 @@ fn parallel_binned_sah_build_is_the_single_threaded_tree() {
         assert_eq!(many.nodes.len(), one.nodes.len(), "{threads} threads: node count");
         assert!(many.nodes == one.nodes, "{threads} threads: the nodes differ");
         assert!(many.prim_indices == one.prim_indices, "{threads} threads: the primitive order differs");
+    }
+}
+
+/// The default builder is the one whose trees cost least where it matters: on a box with two
+/// tessellated spheres (the Sphere Cornell box, 2188 triangles) refining the binned tree by
+/// reinsertion lowered its SAH cost from 17.75 to 15.16, and the path tracer's time by 7 %
+/// (docs/experiments/reinsertion-default.md). A default that built no better than the binned
+/// SAH fails here.
+#[test]
+fn shared_default_builder_beats_binned_sah_on_a_meshed_scene() {
+    if common::skip_without_shared("shared_default_builder_beats_binned_sah_on_a_meshed_scene") {
+        return;
+    }
+    for (rel, gain) in [("cornell-box/CornellBox-Sphere.obj", 0.9), ("cornell-box/CornellBox-Original.obj", 1.0)] {
+        let (boxes, centroids) = tri_boxes(&load_obj(rel));
+        let config = BuildConfig::default();
+        let cost = |kind| sah_cost(&build_valid(kind, &boxes, &centroids, &config));
+        let (default, binned) = (cost(BuilderKind::default()), cost(BuilderKind::Sah));
+        assert!(default <= binned * gain, "{rel}: default builder {default} vs binned {binned} (at most x{gain})");
     }
 }

@@ -24,7 +24,7 @@ The two other Cornell boxes of issue 17, with a Mitsuba reference made by the to
   (then the same without --make-reference, with --spp ...; CornellBox-Sphere: eye -0.01 0.795 4.2547464,
   target -0.01 0.795 -0.025). Materials map onto Mitsuba's as `mitsuba_bsdf` says.
 Only the Python standard library is needed; matplotlib adds the plot, mitsuba adds its curve
-(PyPI `mitsuba`, variant llvm_ad_rgb, needs libLLVM 19: Debian 12 `libllvm19`), and
+(PyPI `mitsuba` and `numpy`, variant llvm_ad_rgb, needs libLLVM 19: Debian 12 `libllvm19`), and
 `flip-evaluator` (PyPI; with mitsuba, whose EXR reader it uses) adds the perceptual metric: mean HDR-FLIP against the reference, for
 every image of both renderers. relMSE alone rewards correlated samples (streaks, blocks), so a
 change is a win only if both fall. The first lines printed (and OUT/machine.txt) name the
@@ -234,8 +234,9 @@ class MitsubaBench:
     def load(args, reference_path):
         try:
             import mitsuba as mi
+            import numpy  # noqa: F401  (MitsubaBench's arrays; not a dependency of mitsuba)
             mi.set_variant("llvm_ad_rgb")
-        except Exception as e:  # not installed, or no libLLVM
+        except Exception as e:  # not installed, no numpy, or no libLLVM
             print(f"Mitsuba not available ({e}); plotting vkrt only", file=sys.stderr)
             return None
         return MitsubaBench(mi, args, reference_path)
@@ -357,7 +358,7 @@ def main():
     if args.make_reference:
         mitsuba = MitsubaBench.load(args, args.reference)
         if mitsuba is None:
-            sys.exit("--make-reference needs Mitsuba 3 (pip install mitsuba; libLLVM 19)")
+            sys.exit("--make-reference needs Mitsuba 3 (pip install mitsuba numpy; libLLVM 19)")
         os.makedirs(os.path.dirname(os.path.abspath(args.reference)), exist_ok=True)
         mitsuba.make_reference(args.make_reference, args.reference)
         print(f"wrote {args.reference}: Mitsuba {mitsuba.mi.__version__}, {args.make_reference} spp")

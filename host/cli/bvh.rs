@@ -49,7 +49,7 @@ pub struct BvhArgs {
     #[arg(long, value_name = "OUT.png")]
     pub heatmap: Option<PathBuf>,
     /// Builder the heat map shows.
-    #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
+    #[arg(long, value_enum, default_value_t = BuilderKind::default())]
     pub heatmap_builder: BuilderKind,
     /// Layout the heat map shows.
     #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]

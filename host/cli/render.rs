@@ -73,7 +73,7 @@ pub struct RenderArgs {
     /// Seed of the samples: the same seed gives the same image, bit for bit [default: 0].
     #[arg(long, value_parser = whole, allow_negative_numbers = true)]
     pub seed: Option<u32>,
-    /// BVH builder: median, sah (binned SAH), sweep-sah or reinsertion [default: sah].
+    /// BVH builder: median, sah (binned SAH), sweep-sah or reinsertion (binned SAH, refined) [default: reinsertion].
     #[arg(long, value_enum)]
     pub builder: Option<BuilderKind>,
     /// BVH layout the shaders walk [default: threaded]; none changes the image.

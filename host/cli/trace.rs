@@ -28,7 +28,7 @@ pub struct TraceArgs {
     #[arg(short, long, visible_alias = "out", value_name = "HITS.npy")]
     pub output: PathBuf,
     /// BVH builder.
-    #[arg(long, value_enum, default_value_t = BuilderKind::Sah)]
+    #[arg(long, value_enum, default_value_t = BuilderKind::default())]
     pub builder: BuilderKind,
     /// BVH layout the shader walks.
     #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]

@@ -40,7 +40,7 @@ pub fn content_hash(path: &std::path::Path) -> Result<u64> {
 /// How to build and lay out the BVH.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PrepareOptions {
-    /// Default: binned SAH.
+    /// Default: reinsertion (binned SAH, refined).
     pub builder: BuilderKind,
     /// Default: threaded.
     pub layout: LayoutKind,

@@ -14,9 +14,12 @@
 //! M = M_area * M_min * M_sum (the paper's combined measure: big nodes whose children fill them
 //! badly). Batches repeat until one gains under 0.1% or `MAX_BATCHES` have run.
 //!
-//! Trade-off: it starts from the full-sweep tree, so it is the slowest builder here (about
-//! twice the sweep's time) and gives the lowest SAH cost. Leaves keep their primitives; only the
-//! tree above them changes, and the result is renumbered depth first with leaf order rebuilt.
+//! Trade-off: `bvh::build` starts it from the binned SAH tree, so it costs that build plus about
+//! as much again (2-4x the binned build alone; less than the full sweep on the shared scenes) and
+//! gives the lowest SAH cost of the builders here, which is why it is the default. Starting from
+//! the sweep's tree instead took twice the time for costs within 1-3 %
+//! (docs/experiments/reinsertion-default.md). Leaves keep their primitives; only the tree above
+//! them changes, and the result is renumbered depth first with leaf order rebuilt.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
