@@ -7,6 +7,7 @@
 // any split of its samples (resumed runs, shards) sums to the same bytes.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "scene_bindings.glsl"
 #include "path_bindings.glsl"

@@ -90,10 +90,17 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 orig
     bsdf_pdf = guide_mix(g, bsdf_pdf, dir);
     Lobes ml = lobes_of(load_material(mr.material));
     vec3 m_off = offset_ray(m, n, frame.scene_scale);
-    rays++;
-    if (occluded(origin, m_off - origin, 0.0, 1.0)) return vec3(0.0);
-    rays++;
-    if (distant ? occluded(m_off, ls.wi, 0.0, 1.0 / 0.0) : occluded(m_off, y - m_off, 0.0, 1.0)) return vec3(0.0);
+    // The two shadow segments, x to the mirror point and on to the light, through one call
+    // site: each `occluded` call is a whole inlined walk in the compiled shader, and lavapipe's
+    // pipeline creation grows with every copy. The loop is kept rolled for the same reason.
+    [[dont_unroll]] for (uint segment = 0u; segment < 2u; segment++) {
+        bool first = segment == 0u;
+        vec3 from = first ? origin : m_off;
+        vec3 span = first ? m_off - origin : (distant ? ls.wi : y - m_off);
+        float reach = first || !distant ? 1.0 : 1.0 / 0.0;
+        rays++;
+        if (occluded(from, span, 0.0, reach)) return vec3(0.0);
+    }
     float pick = 1.0 / float(count);
     // BSDF sampling cannot reach a delta light (pdf 0) by way of a delta mirror: weight 1.
     float w = ls.pdf > 0.0 ? power_heuristic(pick * ls.pdf, bsdf_pdf * ml.p_spec) : 1.0;
