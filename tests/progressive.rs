@@ -236,6 +236,10 @@ fn grown_batches_give_the_same_sums_as_single_sample_batches() {
     assert_eq!((single.samples, grown.samples), (40, 40));
     assert_eq!(single_stats.submissions, 40, "one submission per sample (one tile)");
     assert!(grown_stats.submissions < 20, "batches did not grow: {} submissions for 40 spp", grown_stats.submissions);
+    // The pipeline's creation is timed inside the render's time (render -v reports both).
+    for s in [&single_stats, &grown_stats] {
+        assert!(s.pipeline_seconds > 0.0 && s.pipeline_seconds < s.seconds, "pipeline {} s of a {} s render", s.pipeline_seconds, s.seconds);
+    }
     assert!(single.even == grown.even && single.odd == grown.odd && single.counts == grown.counts, "grown batches changed the sums");
     common::assert_no_validation_messages(&ctx);
 }

@@ -7,8 +7,10 @@ the render time and the relMSE against the reference (mean((a-b)^2/(b^2+0.01)), 
 (if matplotlib is installed), and prints relMSE x seconds, the figure of merit: for an unbiased
 renderer relMSE falls as 1/time, so the product is constant and smaller is faster.
 
-Times are render times: vkrt's own report ("in X s": BVH build and upload excluded, read-back
-included) and Mitsuba's mi.render() after one warm-up render (its JIT compiles kernels once);
+Times are render times: vkrt's own report ("in X s": BVH build and upload excluded, pipeline
+creation and read-back included; each round line says how much was pipeline creation, which
+lavapipe redoes every run) and Mitsuba's mi.render() after one warm-up render (its JIT compiles
+kernels once, and that time is not counted);
 with --rounds N every row runs N times, interleaved, and keeps its shortest time. Each sample
 count runs every vkrt configuration and then Mitsuba back to back.
 
@@ -59,7 +61,7 @@ def coherence_name(coherence):
 
 def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence, adaptive=False):
     cmd = [binary, "render", scene, "-o", out, "--integrator", "path", "--width", str(width),
-           "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed)] \
+           "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed), "-v"] \
         + coherence_flags(coherence) + (["--adaptive"] if adaptive else [])
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
@@ -67,7 +69,9 @@ def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence
     m = re.search(r" in ([0-9.]+) s on ", res.stderr)
     if not m:
         sys.exit(f"no render time in vkrt's report:\n{res.stderr}")
-    return float(m.group(1))
+    # The share of that time spent creating the pipeline (older binaries do not say).
+    p = re.search(r"pipeline creation ([0-9.]+) s", res.stderr)
+    return float(m.group(1)), float(p.group(1)) if p else None
 
 
 def flip_hdr(image, reference):
@@ -375,11 +379,12 @@ def main():
     best = {}  # (renderer, spp) -> [seconds, relMSE, FLIP], in first-run order
     fmt = lambda x: "-" if x is None else f"{x:.4f}"
 
-    def record(r, renderer, label, spp, secs, rel, flip):
+    def record(r, renderer, label, spp, secs, rel, flip, pipeline=None):
         """Keeps the shortest time of (renderer, spp) and prints the round's row."""
         key = (renderer, spp)
         best[key] = [min(secs, best.get(key, [secs])[0]), rel, flip]
-        print(f"round {r + 1}: {label} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.3e} FLIP {fmt(flip)}", flush=True)
+        note = "" if pipeline is None else f" (of which pipeline creation {pipeline:.3f} s)"
+        print(f"round {r + 1}: {label} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.3e} FLIP {fmt(flip)}{note}", flush=True)
 
     # Every spp of a round runs each vkrt configuration and then Mitsuba, one after the other,
     # so that a swing of the machine's speed (minutes long here) falls on both sides alike.
@@ -391,9 +396,9 @@ def main():
                     continue
                 name = f"{sampler} {coherence_name(coherence)}" + (" adaptive" if adaptive else "")
                 img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence.replace('/', 'x')}{'-adaptive' if adaptive else ''}-{spp}.exr")
-                secs = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
+                secs, pipeline = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
                 rel = vkrt_compare(args.vkrt, img, args.reference)
-                record(r, f"vkrt {name} (lavapipe)", f"vkrt {name:24s}", spp, secs, rel, flip_hdr(img, args.reference))
+                record(r, f"vkrt {name} (lavapipe)", f"vkrt {name:24s}", spp, secs, rel, flip_hdr(img, args.reference), pipeline)
             if mitsuba:
                 img = os.path.join(args.out, f"mitsuba-{spp}.exr")
                 secs, rel = mitsuba.render(spp, img)

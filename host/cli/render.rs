@@ -519,7 +519,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if args.verbose {
         // The path tracer's batches grow on cheap scenes (integrator::path::batch): this shows how far.
-        eprintln!("{} submissions to the device", stats.submissions);
+        eprintln!("{} submissions to the device; pipeline creation {:.3} s of the render time", stats.submissions, stats.pipeline_seconds);
     }
     let what = match (integrator, relmse) {
         (IntegratorKind::Whitted, _) => format!("{} spp, depth {}", args.spp.unwrap_or(1), args.max_depth.unwrap_or(WHITTED_DEFAULT_DEPTH)),
