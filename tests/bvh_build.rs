@@ -696,7 +696,7 @@ fn parallel_binned_sah_build_is_the_single_threaded_tree() {
 
 /// The default builder is the one whose trees cost least where it matters: on a box with two
 /// tessellated spheres (the Sphere Cornell box, 2188 triangles) refining the binned tree by
-/// reinsertion lowered its SAH cost from 17.75 to 15.16, and the path tracer's time by 7 %
+/// reinsertion lowered its SAH cost from 17.75 to 15.16, and the path tracer's time by 5 %
 /// (docs/experiments/reinsertion-default.md). A default that built no better than the binned
 /// SAH fails here.
 #[test]

@@ -52,9 +52,8 @@ pub struct RenderStats {
     /// Submissions made.
     pub submissions: u32,
     pub seconds: f64,
-    /// Of `seconds`: creating the compute pipeline. lavapipe turns SPIR-V into NIR here on
-    /// every run (its disk cache keeps the compiled code, not that work), 50-140 ms per
-    /// path-tracer variant: a fixed cost that `render -v` shows beside the total.
+    /// Of `seconds`: creating the compute pipeline (`ComputePipeline::creation_seconds`),
+    /// 30-120 ms on lavapipe per variant: a fixed cost that `render -v` shows beside the total.
     pub pipeline_seconds: f64,
     /// The render stopped early because `Hooks::interrupt` was raised (Ctrl-C, SIGTERM).
     pub interrupted: bool,

@@ -42,7 +42,6 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
     accum.clear()?;
     let features = settings.features(&scene.info);
     let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().copied().chain([(BINDING_ACCUM, BindingKind::Storage)]).collect();
-    let t_pipeline = std::time::Instant::now();
     let pipeline = ComputePipeline::specialized(
         ctx,
         "whitted",
@@ -51,7 +50,7 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
         std::mem::size_of::<GpuPush>() as u32,
         &features.spec_constants(),
     )?;
-    stats.pipeline_seconds = t_pipeline.elapsed().as_secs_f64();
+    stats.pipeline_seconds = pipeline.creation_seconds();
     scene.bind(&pipeline)?;
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;
     let batch = settings.samples_per_batch.max(1);

@@ -38,6 +38,9 @@ pub struct ComputePipeline<'a> {
     sets: Vec<vk::DescriptorSet>,
     bindings: Vec<(u32, BindingKind)>,
     push_size: u32,
+    /// Seconds `specialized` took: on lavapipe the SPIR-V-to-NIR work it redoes every run
+    /// (its disk cache keeps the compiled code, not that work), a fixed cost of each render.
+    creation_seconds: f64,
 }
 
 impl<'a> ComputePipeline<'a> {
@@ -58,6 +61,7 @@ impl<'a> ComputePipeline<'a> {
         push_size: u32,
         constants: &[(u32, u32)],
     ) -> Result<Self> {
+        let start = std::time::Instant::now();
         let dev = &ctx.device;
         let code = crate::pipeline::shaders::words(spv).with_context(|| format!("shader '{name}'"))?;
         let wg = ctx.workgroups;
@@ -75,6 +79,7 @@ impl<'a> ComputePipeline<'a> {
             sets: Vec::new(),
             bindings: bindings.to_vec(),
             push_size,
+            creation_seconds: 0.0,
         };
         // SAFETY: each object is stored in `p` as soon as it exists, so Drop frees whatever was
         // made if a later step fails.
@@ -135,7 +140,13 @@ impl<'a> ComputePipeline<'a> {
                 .allocate_descriptor_sets(&vk::DescriptorSetAllocateInfo::default().descriptor_pool(p.pool).set_layouts(&layouts))
                 .with_context(|| format!("vkAllocateDescriptorSets '{name}'"))?;
         }
+        p.creation_seconds = start.elapsed().as_secs_f64();
         Ok(p)
+    }
+
+    /// How long creating this pipeline took, in seconds.
+    pub fn creation_seconds(&self) -> f64 {
+        self.creation_seconds
     }
 
     /// What binding `binding` holds.

@@ -47,8 +47,6 @@ struct PathGpu<'a> {
     /// The pipeline is the mirror-probe variant: run its probe pass before sampling.
     probes_mirrors: bool,
     pipeline: ComputePipeline<'a>,
-    /// How long creating `pipeline` took.
-    pipeline_seconds: f64,
     // Bound to the pipeline; kept alive with it.
     _frame: Buffer<'a>,
     _params: Buffer<'a>,
@@ -99,7 +97,6 @@ impl<'a> PathGpu<'a> {
             (false, true) => Tracing::PathCasters,
             (true, true) => Tracing::PathMirrorsCasters,
         };
-        let t_pipeline = Instant::now();
         let pipeline = ComputePipeline::specialized(
             ctx,
             shader.name(),
@@ -108,7 +105,6 @@ impl<'a> PathGpu<'a> {
             std::mem::size_of::<GpuPush>() as u32,
             &features.spec_constants(),
         )?;
-        let pipeline_seconds = t_pipeline.elapsed().as_secs_f64();
         scene.bind(&pipeline)?;
         scene.bind_path_arrays(&pipeline)?;
         bind_all(
@@ -125,18 +121,7 @@ impl<'a> PathGpu<'a> {
         for (binding, plane) in SUM_PLANES.iter().zip(&planes) {
             pipeline.bind(*binding, plane)?;
         }
-        Ok(Self {
-            planes,
-            counts,
-            blocks,
-            rays,
-            _mirror_probe: mirror_probe,
-            probes_mirrors,
-            pipeline,
-            pipeline_seconds,
-            _frame: frame_buf,
-            _params: params_buf,
-        })
+        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, pipeline, _frame: frame_buf, _params: params_buf })
     }
 
     /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
@@ -219,7 +204,7 @@ pub fn render(
     let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     // One unused block entry for a uniform run.
     let gpu = PathGpu::new(ctx, scene, settings, &acc, if settings.adaptive { grid.count() } else { 1 })?;
-    let mut stats = RenderStats { pipeline_seconds: gpu.pipeline_seconds, ..RenderStats::default() };
+    let mut stats = RenderStats { pipeline_seconds: gpu.pipeline.creation_seconds(), ..RenderStats::default() };
     let pixels = img.width as u64 * img.height as u64;
     // Adaptive runs use the size for their pilot only: then each block's rate decides.
     let mut sizer = if settings.grow_batches && !settings.adaptive {
