@@ -1,7 +1,7 @@
 //! Storage and uniform buffers, with upload and read-back that work on every memory model
-//! ([`HostAccess`](super::HostAccess)): mapped and written in place where device memory is host-visible
-//! (lavapipe, integrated GPUs, resizable BAR), through the context's reused staging buffers
-//! and a copy elsewhere. Host access waits for the submissions in flight first
+//! ([`HostAccess`](super::HostAccess)): mapped and written in place where device memory is
+//! host-visible (lavapipe, integrated GPUs, resizable BAR), read in place only where it is also
+//! cached (not over a BAR), through the context's reused staging buffers and a copy elsewhere. Host access waits for the submissions in flight first
 //! ([`Context::drain`]), or for one given ticket (`*_after`, for double-buffered work).
 
 use super::commands::{submit_and_wait, Ticket};
@@ -47,9 +47,14 @@ impl<'a> Buffer<'a> {
         Ok(Self { ctx, buffer: raw.buffer, size, raw, name: name.to_string() })
     }
 
-    /// True if the host reads and writes the buffer in place (no staging copy).
+    /// True if the host writes the buffer in place (no staging copy).
     pub fn is_mapped(&self) -> bool {
         self.raw.mapped.is_some()
+    }
+
+    /// True if the host also reads the buffer in place (mapped and cached).
+    pub fn reads_in_place(&self) -> bool {
+        self.raw.reads_in_place
     }
 
     /// A view of the whole buffer as texels of `format`, for a `utextureBuffer`; the buffer
@@ -150,7 +155,7 @@ impl<'a> Buffer<'a> {
     /// As [`Self::read_with`], waiting only for submission `ticket` (same promise as
     /// [`Self::write_after`]).
     pub fn read_after<T: bytemuck::Pod>(&self, ticket: Ticket, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
-        if self.is_mapped() { self.ctx.wait(ticket)? } else { self.ctx.drain()? }
+        if self.reads_in_place() { self.ctx.wait(ticket)? } else { self.ctx.drain()? }
         self.read_unsynchronized(count, take)
     }
 
@@ -159,7 +164,7 @@ impl<'a> Buffer<'a> {
         if count == 0 {
             return Ok(());
         }
-        let Some(ptr) = self.mapped_as::<T>() else {
+        let Some(ptr) = self.mapped_as::<T>().filter(|_| self.reads_in_place()) else {
             return self.ctx.with_staging(MemoryLocation::Readback, len, |staging| {
                 copy(self.ctx, self.buffer, staging.buffer, len, &self.name)?;
                 // SAFETY: as in `write_unsynchronized`; the copy has completed.

@@ -29,9 +29,10 @@ pub struct ContextOptions {
     /// (a discrete GPU if present, else the best other device, lavapipe on a GPU-less machine).
     pub device: Option<String>,
     pub validation: Option<Validation>,
-    /// Reach device memory through staging copies even where it is host-visible: how a
-    /// discrete GPU without resizable BAR works, run on any device (`VKRT_MEMORY=staged`).
-    pub staged: bool,
+    /// Reach device memory as another kind of device does, on any device (`VKRT_MEMORY`):
+    /// `staged` (a discrete GPU without resizable BAR: every write and read through staging
+    /// copies) or `mapped-writes` (one with it: writes in place, reads through staging).
+    pub memory: Option<String>,
 }
 
 impl ContextOptions {
@@ -43,8 +44,8 @@ impl ContextOptions {
             Ok("0") | Ok("off") | Ok("false") => Some(Validation::Off),
             _ => None,
         };
-        let staged = std::env::var("VKRT_MEMORY").is_ok_and(|m| m == "staged");
-        Self { device, validation, staged }
+        let memory = std::env::var("VKRT_MEMORY").ok().filter(|s| !s.is_empty());
+        Self { device, validation, memory }
     }
 }
 
@@ -147,6 +148,16 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>> {
     result
 }
 
+/// The access a context uses: the device's own, or a forced one that the device can do (a
+/// device whose memory is not host-visible cannot map it, whatever is asked).
+fn effective_access(own: HostAccess, forced: Option<HostAccess>) -> HostAccess {
+    match (own, forced) {
+        (HostAccess::Staged, _) | (_, None) => own,
+        (HostAccess::MappedWrites, Some(HostAccess::Mapped)) => own,
+        (_, Some(f)) => f,
+    }
+}
+
 /// Picks a device from `infos`: by index or name part if `wanted` is given, else the default.
 pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize> {
     let usable: Vec<&DeviceInfo> = infos.iter().filter(|d| d.usable).collect();
@@ -177,6 +188,12 @@ pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize
 
 impl Context {
     pub fn new(options: &ContextOptions) -> Result<Self> {
+        let forced = match options.memory.as_deref() {
+            None => None,
+            Some(name) => Some(HostAccess::from_name(name).ok_or_else(|| {
+                anyhow!("VKRT_MEMORY='{name}': expected 'mapped-writes' or 'staged' (or unset: the device's own way)")
+            })?),
+        };
         let entry = load_entry()?;
         let validation_mode = options.validation.unwrap_or(Validation::Off);
         let have_layer = layer_available(&entry, VALIDATION_LAYER);
@@ -221,7 +238,7 @@ impl Context {
                 command_pool,
                 memory,
                 workgroups: super::Workgroups::for_device(&info),
-                host_access: if options.staged { HostAccess::Staged } else { info.host_access },
+                host_access: effective_access(info.host_access, forced),
                 allocator: Mutex::new(Some(allocator)),
                 staging: Mutex::new(Staging::default()),
                 submissions: Mutex::new(submissions),

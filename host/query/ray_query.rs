@@ -26,7 +26,8 @@ pub const ORDER_WINDOW: usize = 1 << 20;
 /// One submission's buffers, bound to a descriptor set of their own so the next batch can be
 /// written while this one runs. On a [`HostAccess::Staged`](crate::gpu::HostAccess) device the
 /// host fills `rays_up` and reads `hits_down`, copied in the same command buffer as the
-/// dispatch; elsewhere it uses `rays` and `hits` in place.
+/// dispatch, and under `MappedWrites` (uncached, over a BAR) it reads `hits_down`; elsewhere it
+/// uses `rays` and `hits` in place.
 struct Slot<'a> {
     rays: Buffer<'a>,
     hits: Buffer<'a>,
@@ -43,7 +44,7 @@ impl<'a> Slot<'a> {
         let rays_up = (!rays.is_mapped())
             .then(|| Buffer::new(ctx, "rays (upload)", ray_bytes, vk::BufferUsageFlags::empty(), MemoryLocation::Upload))
             .transpose()?;
-        let hits_down = (!hits.is_mapped())
+        let hits_down = (!hits.reads_in_place())
             .then(|| Buffer::new(ctx, "hits (read-back)", hit_bytes, vk::BufferUsageFlags::empty(), MemoryLocation::Readback))
             .transpose()?;
         Ok(Self { rays, hits, rays_up, hits_down })
@@ -215,8 +216,9 @@ impl<'a> RayQuery<'a> {
         let push = GpuPush { ray_count: count as u32, any_hit: any_hit as u32, ..gpu.scene };
         let groups = [(count as u32).div_ceil(self.ctx.workgroups.d1), 1, 1];
         let dev = &self.ctx.device;
-        if slot.rays_up.is_some() {
-            self.ctx.note_staged((count * (size_of::<GpuRay>() + size_of::<GpuHit>())) as u64);
+        let staged = slot.rays_up.as_ref().map_or(0, |_| count * size_of::<GpuRay>()) + slot.hits_down.as_ref().map_or(0, |_| count * size_of::<GpuHit>());
+        if staged > 0 {
+            self.ctx.note_staged(staged as u64);
         }
         self.ctx.submit("trace rays", |cmd| {
             // SAFETY: `cmd` is recording; the copies stay inside the buffers (RAYS_PER_BATCH).
