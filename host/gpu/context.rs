@@ -99,12 +99,42 @@ unsafe extern "system" fn debug_callback(
     vk::FALSE
 }
 
-/// Loads the Vulkan loader, or explains how to install it.
+/// The Vulkan loader, loaded once per process and never unloaded, with one instance that is
+/// never destroyed (see [`load_entry`]).
+static ENTRY: std::sync::OnceLock<ash::Entry> = std::sync::OnceLock::new();
+
+/// Held while an instance or device is created or destroyed. NVIDIA's Linux driver races in
+/// concurrent vkCreateInstance / vkCreateDevice (gfx-rs/wgpu#5930, kvark/blade#336): on an H200
+/// (driver 580.159) `tests/progressive.rs` with two test threads died of SIGSEGV about one run
+/// in two, and passed every time on one. The calls are rare and short, so they take turns.
+static LIFECYCLE: Mutex<()> = Mutex::new(());
+
+/// Takes the [`LIFECYCLE`] turn (a panic elsewhere while holding it leaves nothing half-made
+/// that matters here, so a poisoned lock is taken as is).
+fn lifecycle_turn() -> std::sync::MutexGuard<'static, ()> {
+    LIFECYCLE.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Loads the Vulkan loader (once; callers hold the [`LIFECYCLE`] turn), or explains how to
+/// install it. The first load also creates an instance that is never destroyed, so that the
+/// loader keeps the drivers loaded for the life of the process: NVIDIA's leaves a destructor
+/// in each thread that called it, which runs when the thread exits, and once the last context
+/// was dropped the loader had unloaded the driver under it. On an H200 every run of
+/// `tests/progressive.rs` with two test threads (a thread per test, exiting after its context)
+/// then died of SIGSEGV in a thread-exit destructor at an address of no loaded library; with
+/// one thread (tests on the main thread, which exits with the process) none did.
 fn load_entry() -> Result<ash::Entry> {
+    if let Some(entry) = ENTRY.get() {
+        return Ok(entry.clone());
+    }
     // SAFETY: loading the system's Vulkan loader library; no other code runs during it.
-    unsafe { ash::Entry::load() }.map_err(|e| {
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| {
         anyhow!("could not load the Vulkan loader (libvulkan.so.1): {e}. Install it and a driver: run `tools/ensure-deps.sh` as root (Debian: libvulkan1, mesa-vulkan-drivers)")
-    })
+    })?;
+    // Kept, not destroyed (ash::Instance has no Drop). Without a driver this fails, and the
+    // caller's own vkCreateInstance then reports why.
+    let _keeper = create_instance(&entry, false);
+    Ok(ENTRY.get_or_init(|| entry).clone())
 }
 
 fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
@@ -135,6 +165,7 @@ fn layer_available(entry: &ash::Entry, name: &CStr) -> bool {
 
 /// Every physical device the loader reports, with its properties.
 pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    let _turn = lifecycle_turn();
     let entry = load_entry()?;
     let instance = create_instance(&entry, false)?;
     // SAFETY: the instance is valid and destroyed right after use.
@@ -194,6 +225,7 @@ impl Context {
                 anyhow!("VKRT_MEMORY='{name}': expected 'mapped-writes' or 'staged' (or unset: the device's own way)")
             })?),
         };
+        let _turn = lifecycle_turn();
         let entry = load_entry()?;
         let validation_mode = options.validation.unwrap_or(Validation::Off);
         let have_layer = layer_available(&entry, VALIDATION_LAYER);
@@ -323,6 +355,7 @@ impl Context {
 
 impl Drop for Context {
     fn drop(&mut self) {
+        let _turn = lifecycle_turn();
         // SAFETY: every object made from the device is owned by something that borrows this
         // context, so it is gone by now; wait for the queue, then destroy in reverse order.
         unsafe {
