@@ -23,6 +23,10 @@ pub struct DeviceInfo {
     pub device_local_bytes: u64,
     /// How the host reaches its device-local memory.
     pub host_access: super::HostAccess,
+    /// Whether the device's shader division is IEEE (correctly rounded), as the CPU twin's is:
+    /// lavapipe's (LLVM's fdiv; tests/traversal.rs holds it to 0 ulps). Elsewhere Vulkan allows
+    /// 2.5 ulp, and the ray setup corrects its quotients (SPEC_CORRECT_DIVISION).
+    pub divides_exactly: bool,
     /// True if it has a compute queue and Vulkan 1.2, so vkrt can use it.
     pub usable: bool,
 }
@@ -71,6 +75,7 @@ impl DeviceInfo {
             max_push_constants_size: p.limits.max_push_constants_size,
             device_local_bytes,
             host_access: super::HostAccess::detect(&mem),
+            divides_exactly: driver.driver_id == vk::DriverId::MESA_LLVMPIPE,
             usable: has_compute && api_ok,
         }
     }

@@ -74,6 +74,7 @@ mod tests {
             max_push_constants_size: 128,
             device_local_bytes: 0,
             host_access: crate::gpu::HostAccess::Mapped,
+            divides_exactly: true,
             usable: true,
         }
     }

@@ -110,6 +110,11 @@ shared_constants! {
     SPEC_WORKGROUP_X = 10;
     SPEC_WORKGROUP_Y = 11;
     SPEC_WORKGROUP_1D = 12;
+    /// Specialization constant id: 1 where the device's division may be off by ulps, so the
+    /// ray setup and the triangle test correct their quotients to the rounded ones the CPU twin
+    /// computes (`div_rn`, shaders/include/intersect.glsl); 0 on lavapipe, whose division is
+    /// IEEE already. Set for every pipeline from `gpu::DeviceInfo::divides_exactly`.
+    SPEC_CORRECT_DIVISION = 17;
 
     /// A leaf packs (first triangle << LEAF_COUNT_BITS) | count into one u32; 0 count = interior.
     LEAF_COUNT_BITS = 8;

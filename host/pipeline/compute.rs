@@ -3,7 +3,7 @@
 //! a set of its own (`bind_in`, `record_dispatch_in`); `bind` points all of them at a buffer.
 
 use crate::gpu::{Buffer, Context, TexelView, IN_FLIGHT};
-use crate::gpu_abi::constants::{SPEC_WORKGROUP_1D, SPEC_WORKGROUP_X, SPEC_WORKGROUP_Y};
+use crate::gpu_abi::constants::{SPEC_CORRECT_DIVISION, SPEC_WORKGROUP_1D, SPEC_WORKGROUP_X, SPEC_WORKGROUP_Y};
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 
@@ -52,7 +52,8 @@ impl<'a> ComputePipeline<'a> {
 
     /// As [`Self::new`], with 32-bit specialization constants `(constant_id, value)` (a GLSL
     /// `bool` constant takes 0 or 1); constants not listed keep the shader's defaults. Every
-    /// pipeline also gets the device's workgroup shape (`ctx.workgroups`, SPEC_WORKGROUP_*).
+    /// pipeline also gets the device's workgroup shape (`ctx.workgroups`, SPEC_WORKGROUP_*) and
+    /// whether its division needs correcting (SPEC_CORRECT_DIVISION), unless listed here.
     pub fn specialized(
         ctx: &'a Context,
         name: &str,
@@ -65,8 +66,15 @@ impl<'a> ComputePipeline<'a> {
         let dev = &ctx.device;
         let code = crate::pipeline::shaders::words(spv).with_context(|| format!("shader '{name}'"))?;
         let wg = ctx.workgroups;
-        let shape = [(SPEC_WORKGROUP_X, wg.x), (SPEC_WORKGROUP_Y, wg.y), (SPEC_WORKGROUP_1D, wg.d1)];
-        let constants: Vec<(u32, u32)> = constants.iter().copied().chain(shape).collect();
+        let device = [
+            (SPEC_WORKGROUP_X, wg.x),
+            (SPEC_WORKGROUP_Y, wg.y),
+            (SPEC_WORKGROUP_1D, wg.d1),
+            (SPEC_CORRECT_DIVISION, !ctx.info.divides_exactly as u32),
+        ];
+        // The caller's value wins where it names a device constant (a test forcing one).
+        let given = |id: u32| constants.iter().any(|&(c, _)| c == id);
+        let constants: Vec<(u32, u32)> = constants.iter().copied().chain(device.into_iter().filter(|&(id, _)| !given(id))).collect();
         let constants = constants.as_slice();
         let mut p = Self {
             ctx,

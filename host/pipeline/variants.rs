@@ -54,4 +54,5 @@ pub const SHADERS: &[Shader] = &[
     Shader { name: "texel_decode_probe", source: "test/texel_decode_probe.comp", defines: &[], per_layout: true, role: Role::Probe },
     Shader { name: "bsdf_probe", source: "test/bsdf_probe.comp", defines: &[], per_layout: false, role: Role::Probe },
     Shader { name: "sampler_probe", source: "test/sampler_probe.comp", defines: &[], per_layout: false, role: Role::Probe },
+    Shader { name: "division_probe", source: "test/division_probe.comp", defines: &[], per_layout: false, role: Role::Probe },
 ];

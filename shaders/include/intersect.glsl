@@ -2,6 +2,8 @@
 #ifndef VKRT_INTERSECT_GLSL
 #define VKRT_INTERSECT_GLSL
 
+#include "constants.glsl"
+
 // Ize 2013, "Robust BVH ray traversal": the far slab distance times 1 + 2*gamma(3) makes the
 // float slab test conservative. Value: accel::intersect::SLAB_FAR_PAD.
 const float SLAB_FAR_PAD = 1.0000003576278687;
@@ -18,10 +20,79 @@ struct RayPre {
     vec3 shear;
 };
 
+// p + e == a * b exactly (per component), with round-to-nearest products and sums only
+// (Dekker 1971, "A floating-point technique for extending the available precision",
+// Veltkamp's split). Vulkan rounds OpFMul and OpFAdd correctly but lets fma() be a product
+// then a sum, so an exact residual cannot rely on it; `precise` keeps these from being fused.
+void two_product(vec3 a, vec3 b, out vec3 p, out vec3 e) {
+    precise vec3 ca = 4097.0 * a;
+    precise vec3 ah = ca - (ca - a);
+    precise vec3 al = a - ah;
+    precise vec3 cb = 4097.0 * b;
+    precise vec3 bh = cb - (cb - b);
+    precise vec3 bl = b - bh;
+    precise vec3 pp = a * b;
+    precise vec3 ee = ((ah * bh - pp) + ah * bl + al * bh) + al * bl;
+    p = pp;
+    e = ee;
+}
+
+// a - q b, exact for q within a few ulps of a / b (the residual is then representable and
+// a - p is exact by Sterbenz's lemma).
+vec3 residual(vec3 a, vec3 q, vec3 b) {
+    vec3 p, e;
+    two_product(q, b, p, e);
+    precise vec3 r = (a - p) - e;
+    return r;
+}
+
+// Where the device's division may be off (SPEC_CORRECT_DIVISION: every device but lavapipe).
+layout(constant_id = SPEC_CORRECT_DIVISION) const bool CORRECT_DIVISION = true;
+
+// a / b correctly rounded, as the CPU twin divides. Vulkan lets a division be 2.5 ulp off, and
+// NVIDIA's is: on an H200 the GPU's t and node counts then differed from the twin's, and Ize's
+// padded slab test (below) assumes a rounded 1/d. `correct_quotient` takes the device's
+// q ~ a / b and y ~ 1 / b: one residual correction q + r y (r exact: `residual`) brings q
+// within a little over half an ulp (Markstein 1990, "Computation of elementary functions on
+// the IBM RISC System/6000 processor", IBM J. Res. Dev. 34(1)), and of it and the neighbour
+// on the side the exact residual points to, the one with the smaller residual is the rounded
+// quotient: a / b is never exactly halfway, but can be within 2^-25 ulp of it (1 / b for b
+// just under a power of two), where a second correction alone still rounds the wrong way.
+// Checked bit for bit against the CPU by tests/division.rs, on lavapipe from quotients put
+// 2 ulps off. Quotients and reciprocals outside [1e-18, 1e18] (zero, infinite, NaN, or where
+// the split's low products would fall below the normal range, which a device may flush to
+// zero) keep the device's own. Three quotients at a time: the ray setup's six are two calls,
+// and every inlined copy of the body costs pipeline creation even where the constant is off
+// (lavapipe translates the dead code before it folds it away).
+vec3 correct_quotient(vec3 a, vec3 b, vec3 q, vec3 y) {
+    bvec3 ordinary = bvec3(uvec3(greaterThanEqual(abs(q), vec3(1e-18))) & uvec3(lessThanEqual(abs(q), vec3(1e18)))
+        & uvec3(greaterThanEqual(abs(y), vec3(1e-18))) & uvec3(lessThanEqual(abs(y), vec3(1e18))));
+    precise vec3 q1 = q + residual(a, q, b) * y;
+    precise vec3 r1 = residual(a, q1, b);
+    // The exact quotient q1 + r1 / b lies farther from zero than q1 when r1 / b has q1's sign.
+    bvec3 outward = bvec3(uvec3(notEqual(r1, vec3(0.0))) & uvec3(equal(equal(greaterThan(r1, vec3(0.0)), greaterThan(b, vec3(0.0))), greaterThan(q1, vec3(0.0)))));
+    uvec3 bits = floatBitsToUint(q1);
+    precise vec3 q2 = uintBitsToFloat(mix(bits - 1u, bits + 1u, outward));
+    precise vec3 r2 = residual(a, q2, b);
+    return mix(q, mix(q1, q2, lessThan(abs(r2), abs(r1))), ordinary);
+}
+
+vec3 div_rn(vec3 a, vec3 b) {
+    precise vec3 q = a / b;
+    if (!CORRECT_DIVISION) return q;
+    precise vec3 y = 1.0 / b;
+    return correct_quotient(a, b, q, y);
+}
+
+float div_rn(float a, float b) {
+    return div_rn(vec3(a), vec3(b)).x;
+}
+
 // 1/d, with 0 mapped to the largest float of the same sign: an origin on a slab plane then
 // gives 0 * MAX = 0 instead of 0 * inf = NaN, and the slab counts as entered.
-float safe_reciprocal(float d) {
-    return d == 0.0 ? ((floatBitsToUint(d) >> 31) != 0u ? -FLOAT_MAX : FLOAT_MAX) : 1.0 / d;
+vec3 safe_reciprocal(vec3 d) {
+    vec3 signed_max = mix(vec3(FLOAT_MAX), vec3(-FLOAT_MAX), notEqual(floatBitsToUint(d) >> 31, uvec3(0u)));
+    return mix(div_rn(vec3(1.0), d), signed_max, equal(d, vec3(0.0)));
 }
 
 RayPre ray_pre(vec3 origin, vec3 dir, float tmin, float tmax) {
@@ -32,7 +103,7 @@ RayPre ray_pre(vec3 origin, vec3 dir, float tmin, float tmax) {
     r.inv_dir = 1.0 / dir;
     r.tmin = tmin;
 #else
-    r.inv_dir = vec3(safe_reciprocal(dir.x), safe_reciprocal(dir.y), safe_reciprocal(dir.z));
+    r.inv_dir = safe_reciprocal(dir);
     // A ray with a NaN anywhere must miss at the root. The select min/max of the slab test may
     // drop a NaN operand, and a zero direction component makes a far slab distance overflow to
     // infinity, so such a ray could enter most boxes. Instead it gets origin 0 and inverse
@@ -50,7 +121,7 @@ RayPre ray_pre(vec3 origin, vec3 dir, float tmin, float tmax) {
     // Swapping kx and ky when the dominant component is negative keeps the winding
     // (Woop, Benthin & Wald 2013, sec. 3).
     if (dir[r.kz] < 0.0) { int t = r.kx; r.kx = r.ky; r.ky = t; }
-    r.shear = vec3(dir[r.kx] / dir[r.kz], dir[r.ky] / dir[r.kz], 1.0 / dir[r.kz]);
+    r.shear = div_rn(vec3(dir[r.kx], dir[r.ky], 1.0), vec3(dir[r.kz]));
     return r;
 }
 
@@ -105,7 +176,7 @@ bool intersect_triangle(RayPre r, vec3 v0, vec3 v1, vec3 v2, float tmax, out flo
     precise float bz = r.shear.z * b[r.kz];
     precise float cz = r.shear.z * c[r.kz];
     precise float t_scaled = e0 * az + e1 * bz + e2 * cz;
-    precise float inv_det = 1.0 / det;
+    precise float inv_det = div_rn(1.0, det);
     t = t_scaled * inv_det;
     if (!(t > r.tmin && t < tmax)) return false;
     u = e1 * inv_det;
