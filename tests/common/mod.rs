@@ -69,7 +69,9 @@ pub fn skip_without_shared(test: &str) -> bool {
 /// The SPIR-V of a test probe (host/pipeline/variants.rs, role Probe): built by host/build.rs
 /// into `$OUT_DIR/probes/`, never embedded in the library.
 pub fn probe_spirv(name: &str) -> Vec<u8> {
-    let path = std::path::Path::new(env!("OUT_DIR")).join("probes").join(format!("{name}.spv"));
+    // VKRT_PROBES: where `tools/device-check --pack` put them, on a machine without the build.
+    let dir = std::env::var_os("VKRT_PROBES").map_or_else(|| std::path::Path::new(env!("OUT_DIR")).join("probes"), std::path::PathBuf::from);
+    let path = dir.join(format!("{name}.spv"));
     std::fs::read(&path).unwrap_or_else(|e| panic!("probe {}: {e}", path.display()))
 }
 
