@@ -75,9 +75,10 @@ fn corrected_division_is_the_ieee_quotient() {
     for (p, g) in pairs.iter().zip(&got) {
         let ieee = p[0] / p[1];
         own_off += (g[1] != ieee) as usize;
-        // div_rn leaves quotients and reciprocals outside [1e-18, 1e18] to the device.
+        // div_rn leaves quotients, reciprocals and dividends outside [1e-18, 1e18] to the device.
         let y = 1.0 / p[1];
-        if !(1e-18..=1e18).contains(&ieee.abs()) || !(1e-18..=1e18).contains(&y.abs()) {
+        let ordinary = |x: f32| (1e-18..=1e18).contains(&x.abs());
+        if !ordinary(ieee) || !ordinary(y) || p[0].abs() < 1e-18 {
             continue;
         }
         checked += 1;

@@ -54,27 +54,29 @@ layout(constant_id = SPEC_CORRECT_DIVISION) const bool CORRECT_DIVISION = true;
 // padded slab test (below) assumes a rounded 1/d. `correct_quotient` takes the device's
 // q ~ a / b and y ~ 1 / b: one residual correction q + r y (r exact: `residual`) brings q
 // within a little over half an ulp (Markstein 1990, "Computation of elementary functions on
-// the IBM RISC System/6000 processor", IBM J. Res. Dev. 34(1)), and of it and the neighbour
-// on the side the exact residual points to, the one with the smaller residual is the rounded
-// quotient: a / b is never exactly halfway, but can be within 2^-25 ulp of it (1 / b for b
-// just under a power of two), where a second correction alone still rounds the wrong way.
-// Checked bit for bit against the CPU by tests/division.rs, on lavapipe from quotients put
-// 2 ulps off. Quotients and reciprocals outside [1e-18, 1e18] (zero, infinite, NaN, or where
-// the split's low products would fall below the normal range, which a device may flush to
-// zero) keep the device's own. Three quotients at a time: the ray setup's six are two calls,
+// the IBM RISC System/6000 processor", IBM J. Res. Dev. 34(1)), and the exact residual of that
+// says whether the neighbour on its side is nearer: a / b is never exactly halfway, but can be
+// within 2^-25 ulp of it (1 / b for b just under a power of two), where a second correction
+// alone still rounds the wrong way. Checked bit for bit against the CPU by tests/division.rs,
+// on lavapipe from quotients put 2 ulps off. Quotients, reciprocals and dividends outside
+// [1e-18, 1e18] (zero, infinite, NaN, or where the split's low products would fall below the
+// normal range, which a device may flush to zero) keep the device's own. Three quotients at a time: the ray setup's six are two calls,
 // and every inlined copy of the body costs pipeline creation even where the constant is off
 // (lavapipe translates the dead code before it folds it away).
 vec3 correct_quotient(vec3 a, vec3 b, vec3 q, vec3 y) {
     bvec3 ordinary = bvec3(uvec3(greaterThanEqual(abs(q), vec3(1e-18))) & uvec3(lessThanEqual(abs(q), vec3(1e18)))
-        & uvec3(greaterThanEqual(abs(y), vec3(1e-18))) & uvec3(lessThanEqual(abs(y), vec3(1e18))));
+        & uvec3(greaterThanEqual(abs(y), vec3(1e-18))) & uvec3(lessThanEqual(abs(y), vec3(1e18)))
+        & uvec3(greaterThanEqual(abs(a), vec3(1e-18))));
     precise vec3 q1 = q + residual(a, q, b) * y;
     precise vec3 r1 = residual(a, q1, b);
-    // The exact quotient q1 + r1 / b lies farther from zero than q1 when r1 / b has q1's sign.
-    bvec3 outward = bvec3(uvec3(notEqual(r1, vec3(0.0))) & uvec3(equal(equal(greaterThan(r1, vec3(0.0)), greaterThan(b, vec3(0.0))), greaterThan(q1, vec3(0.0)))));
+    // The exact quotient q1 + r1 / b lies farther from zero than q1 when r1 / b has q1's sign;
+    // q2 is q1's neighbour on that side, and it is the rounded quotient if the exact one is
+    // past halfway to it: |r1| > |b| |q2 - q1| / 2 (exact: the gap is a power of two).
+    bvec3 outward = equal(equal(greaterThan(r1, vec3(0.0)), greaterThan(b, vec3(0.0))), greaterThan(q1, vec3(0.0)));
     uvec3 bits = floatBitsToUint(q1);
     precise vec3 q2 = uintBitsToFloat(mix(bits - 1u, bits + 1u, outward));
-    precise vec3 r2 = residual(a, q2, b);
-    return mix(q, mix(q1, q2, lessThan(abs(r2), abs(r1))), ordinary);
+    precise vec3 half_gap = abs(b) * abs(q2 - q1) * 0.5;
+    return mix(q, mix(q1, q2, greaterThan(abs(r1), half_gap)), ordinary);
 }
 
 vec3 div_rn(vec3 a, vec3 b) {
