@@ -55,6 +55,10 @@ pub struct RenderStats {
     /// Of `seconds`: creating the compute pipeline (`ComputePipeline::creation_seconds`),
     /// 30-120 ms on lavapipe per variant: a fixed cost that `render -v` shows beside the total.
     pub pipeline_seconds: f64,
+    /// Path tracer: error estimates made (each a read-back of the sums and a pass over them),
+    /// and the seconds they took, also part of `seconds`.
+    pub estimates: u32,
+    pub estimate_seconds: f64,
     /// The render stopped early because `Hooks::interrupt` was raised (Ctrl-C, SIGTERM).
     pub interrupted: bool,
 }

@@ -126,9 +126,11 @@ impl<'a> PathGpu<'a> {
 
     /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
     /// the adaptive rates). `samples`: per pixel, or the mean for per-pixel counts.
-    fn read(&self, like: &Accumulation, samples: u64, first_sample: u64) -> Result<Accumulation> {
-        let pixels = like.width as usize * like.height as usize;
-        let mut acc = Accumulation::new(like.width, like.height);
+    /// Reads the sums, counts and sample count into `acc`, in its own arrays (the run's sums so
+    /// far, replaced): a fresh Accumulation per read was 56 MB of new arrays at 1024², page
+    /// faults and all, for every estimate.
+    fn read_into(&self, acc: &mut Accumulation, samples: u64, first_sample: u64) -> Result<()> {
+        let pixels = acc.width as usize * acc.height as usize;
         for (k, plane) in self.planes.iter().enumerate() {
             let half = if k < 3 { &mut acc.even } else { &mut acc.odd };
             plane
@@ -139,13 +141,11 @@ impl<'a> PathGpu<'a> {
                 })
                 .context("reading the sums")?;
         }
-        acc.counts = self.counts.read_as(pixels).context("reading the sample counts")?;
+        let counts = &mut acc.counts;
+        self.counts.read_with(pixels, |src: &[[u32; 2]]| counts.copy_from_slice(src)).context("reading the sample counts")?;
         acc.samples = samples;
-        acc.even_samples = if like.per_pixel { samples / 2 } else { even_indices(first_sample, samples) };
-        acc.per_pixel = like.per_pixel;
-        acc.rates = like.rates.clone();
-        acc.check_range()?;
-        Ok(acc)
+        acc.even_samples = if acc.per_pixel { samples / 2 } else { even_indices(first_sample, samples) };
+        acc.check_range()
     }
 
     /// Rays traced so far in this run, over all pixels.
@@ -242,7 +242,7 @@ pub fn render(
         };
         if let Some(state) = adaptive.as_mut() {
             if state.pilot_done() && acc.rates.is_empty() {
-                acc = gpu.read(&acc, run.samples, settings.first_sample)?;
+                gpu.read_into(&mut acc, run.samples, settings.first_sample)?;
                 acc.rates = block_rates(&acc, grid);
             }
             let next = state.next_batch(&acc.rates, batch, stop.spp.map(|n| n * pixels));
@@ -282,7 +282,7 @@ pub fn render(
         // 1M-pixel estimate.
         let by_time = since >= ESTIMATE_INTERVAL_S && since >= read_s / ESTIMATE_TIME_SHARE;
         if want_estimate && (by_time || stop.estimate_due(&run)) {
-            acc = gpu.read(&acc, run.samples, settings.first_sample)?;
+            gpu.read_into(&mut acc, run.samples, settings.first_sample)?;
             run.relmse = acc.estimate_relmse();
             run.relmse_samples = run.samples;
             if hooks.progress.is_some() {
@@ -291,17 +291,19 @@ pub fn render(
             }
             last_estimate = now;
             read_s = now.elapsed().as_secs_f64();
+            stats.estimates += 1;
+            stats.estimate_seconds += read_s;
         }
         if let Some(hook) = hooks.snapshot.as_mut() {
             if now.duration_since(last_snapshot).as_secs_f64() >= hooks.snapshot_interval_s {
-                acc = gpu.read(&acc, run.samples, settings.first_sample)?;
+                gpu.read_into(&mut acc, run.samples, settings.first_sample)?;
                 hook(&acc)?;
                 last_snapshot = now;
             }
         }
         if let Some(hook) = hooks.checkpoint.as_mut() {
             if now.duration_since(last_checkpoint).as_secs_f64() >= hooks.checkpoint_interval_s {
-                acc = gpu.read(&acc, run.samples, settings.first_sample)?;
+                gpu.read_into(&mut acc, run.samples, settings.first_sample)?;
                 hook(&acc)?;
                 last_checkpoint = now;
             }
@@ -320,7 +322,7 @@ pub fn render(
             });
         }
     }
-    acc = gpu.read(&acc, run.samples, settings.first_sample)?;
+    gpu.read_into(&mut acc, run.samples, settings.first_sample)?;
     if let Some(hook) = hooks.checkpoint.as_mut() {
         hook(&acc)?;
     }
