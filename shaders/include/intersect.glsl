@@ -81,9 +81,11 @@ vec3 correct_quotient(vec3 a, vec3 b, vec3 q, vec3 y) {
 
 vec3 div_rn(vec3 a, vec3 b) {
     precise vec3 q = a / b;
-    if (!CORRECT_DIVISION) return q;
-    precise vec3 y = 1.0 / b;
-    return correct_quotient(a, b, q, y);
+    if (CORRECT_DIVISION) {
+        precise vec3 y = 1.0 / b;
+        q = correct_quotient(a, b, q, y);
+    }
+    return q;
 }
 
 float div_rn(float a, float b) {
