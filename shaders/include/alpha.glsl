@@ -38,18 +38,25 @@ float coverage_draw(uint prim, RayPre r) {
 
 // True if the hit at barycentrics (u, v) of primitive prim is opaque for ray r.
 bool alpha_passes(uint prim, float u, float v, RayPre r) {
-    if (!HAS_ALPHA) return true;
-    GpuMaterial m = load_material(load_shading(prim).material);
-    if ((m.flags & MATERIAL_ALPHA) == 0u) return true;
-    float alpha = texture_uv(m.alpha_texture, uv_at(prim, u, v), false).a;
-    if ((m.flags & MATERIAL_BLEND) != 0u) {
+    bool opaque = true;
+    // A block on the constant, not an early return (see material_at in surface.glsl): this
+    // runs in every inlined BVH walk.
+    if (HAS_ALPHA) {
+        GpuMaterial m = load_material(load_shading(prim).material);
+        if ((m.flags & MATERIAL_ALPHA) != 0u) {
+            float alpha = texture_uv(m.alpha_texture, uv_at(prim, u, v), false).a;
+            if ((m.flags & MATERIAL_BLEND) != 0u) {
 #ifdef STOCHASTIC_ALPHA
-        return coverage_draw(prim, r) < alpha;
+                opaque = coverage_draw(prim, r) < alpha;
 #else
-        return alpha >= BLEND_AS_MASK_CUTOFF;
+                opaque = alpha >= BLEND_AS_MASK_CUTOFF;
 #endif
+            } else {
+                opaque = alpha >= m.alpha_cutoff;
+            }
+        }
     }
-    return alpha >= m.alpha_cutoff;
+    return opaque;
 }
 
 #endif

@@ -11,10 +11,13 @@
 // sampling picks emitters by the factor alone (prepare::scene_buffers), so with a texture the
 // pick is less well matched to the power but the estimate stays unbiased.
 vec3 emission_at(uint prim, float u, float v, vec3 factor) {
-    if (!HAS_TEXTURES) return factor;
-    GpuMaterial m = load_material(load_shading(prim).material);
-    if (m.emission_texture == TEXTURE_NONE) return factor;
-    return factor * texture_uv(m.emission_texture, uv_at(prim, u, v), true).rgb;
+    vec3 e = factor;
+    // A block on the constant, not an early return (see material_at).
+    if (HAS_TEXTURES) {
+        GpuMaterial m = load_material(load_shading(prim).material);
+        if (m.emission_texture != TEXTURE_NONE) e *= texture_uv(m.emission_texture, uv_at(prim, u, v), true).rgb;
+    }
+    return e;
 }
 
 #endif

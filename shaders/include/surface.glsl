@@ -96,22 +96,26 @@ vec3 normal_mapped(Hit h, Surface s, GpuMaterial m, vec2 uv) {
 // emission texture multiplies the emission. A normal map replaces s.ns (normal_mapped).
 GpuMaterial material_at(Hit h, inout Surface s) {
     GpuMaterial m = load_material(s.material);
-    if (!HAS_TEXTURES) return m;
-    bool mr = HAS_METALLIC_ROUGHNESS && (m.flags & MATERIAL_METALLIC_ROUGHNESS) != 0u;
-    if (m.diffuse_texture != TEXTURE_NONE) {
-        vec3 c = texture_uv(m.diffuse_texture, uv_at(h.prim, h.u, h.v), true).rgb;
-        m.diffuse = mr ? m.diffuse * c : c;
-    }
-    if (mr && m.metallic_roughness_texture != TEXTURE_NONE) {
-        vec4 c = texture_uv(m.metallic_roughness_texture, uv_at(h.prim, h.u, h.v), false);
-        m.metallic *= c.b;
-        m.roughness *= c.g;
-    }
-    if (m.emission_texture != TEXTURE_NONE) {
-        m.emission *= texture_uv(m.emission_texture, uv_at(h.prim, h.u, h.v), true).rgb;
-    }
-    if (HAS_NORMAL_MAP && (m.flags & MATERIAL_NORMAL_MAP) != 0u) {
-        s.ns = normal_mapped(h, s, m, uv_at(h.prim, h.u, h.v));
+    // A block on the constant, not an early return: lavapipe drops an untaken block as it
+    // translates, but translates an early return's dead remainder into every inlined copy
+    // first (pipeline-creation-time.md).
+    if (HAS_TEXTURES) {
+        bool mr = HAS_METALLIC_ROUGHNESS && (m.flags & MATERIAL_METALLIC_ROUGHNESS) != 0u;
+        if (m.diffuse_texture != TEXTURE_NONE) {
+            vec3 c = texture_uv(m.diffuse_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+            m.diffuse = mr ? m.diffuse * c : c;
+        }
+        if (mr && m.metallic_roughness_texture != TEXTURE_NONE) {
+            vec4 c = texture_uv(m.metallic_roughness_texture, uv_at(h.prim, h.u, h.v), false);
+            m.metallic *= c.b;
+            m.roughness *= c.g;
+        }
+        if (m.emission_texture != TEXTURE_NONE) {
+            m.emission *= texture_uv(m.emission_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+        }
+        if (HAS_NORMAL_MAP && (m.flags & MATERIAL_NORMAL_MAP) != 0u) {
+            s.ns = normal_mapped(h, s, m, uv_at(h.prim, h.u, h.v));
+        }
     }
     return m;
 }
