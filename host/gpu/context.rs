@@ -103,10 +103,11 @@ unsafe extern "system" fn debug_callback(
 /// never destroyed (see [`load_entry`]).
 static ENTRY: std::sync::OnceLock<ash::Entry> = std::sync::OnceLock::new();
 
-/// Held while an instance or device is created or destroyed. NVIDIA's Linux driver races in
-/// concurrent vkCreateInstance / vkCreateDevice (gfx-rs/wgpu#5930, kvark/blade#336): on an H200
-/// (driver 580.159) `tests/progressive.rs` with two test threads died of SIGSEGV about one run
-/// in two, and passed every time on one. The calls are rare and short, so they take turns.
+/// Held while an instance or device is created or destroyed. NVIDIA's Linux driver is reported
+/// to race in concurrent vkCreateInstance / vkCreateDevice (SIGSEGV in parallel tests:
+/// gfx-rs/wgpu#5930, kvark/blade#336). The crash seen here on an H200 was another one (the
+/// driver unloaded under a live thread, see [`load_entry`]), but the calls are rare and short,
+/// so they take turns.
 static LIFECYCLE: Mutex<()> = Mutex::new(());
 
 /// Takes the [`LIFECYCLE`] turn (a panic elsewhere while holding it leaves nothing half-made
