@@ -124,11 +124,10 @@ impl<'a> PathGpu<'a> {
         Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, pipeline, _frame: frame_buf, _params: params_buf })
     }
 
-    /// The sums as they stand; `like` gives the run's kind (uniform or per-pixel counts, and
-    /// the adaptive rates). `samples`: per pixel, or the mean for per-pixel counts.
-    /// Reads the sums, counts and sample count into `acc`, in its own arrays (the run's sums so
-    /// far, replaced): a fresh Accumulation per read was 56 MB of new arrays at 1024², page
-    /// faults and all, for every estimate.
+    /// The sums as they stand, read into `acc` (its kind, uniform or per-pixel counts, and its
+    /// adaptive rates kept), in its own arrays: a fresh Accumulation per read was 56 MB of new
+    /// arrays at 1024², page faults and all, for every estimate. `samples`: per pixel, or the
+    /// mean for per-pixel counts.
     fn read_into(&self, acc: &mut Accumulation, samples: u64, first_sample: u64) -> Result<()> {
         let pixels = acc.width as usize * acc.height as usize;
         for (k, plane) in self.planes.iter().enumerate() {
@@ -277,9 +276,8 @@ pub fn render(
         // Every ESTIMATE_INTERVAL_S, those read-backs taking at most ESTIMATE_TIME_SHARE of the
         // run; and where the target error is expected (`estimate_due`), whatever they cost:
         // they are few (`next_estimate_samples`), and one read-back is cheaper than rendering
-        // on past the target. With the share rule alone an H200 rendered a 1024² target for
-        // 2.9 s (1720 spp) that an estimate at 256 spp had nearly met, 1 s apart reads of the
-        // 1M-pixel estimate.
+        // on past the target. With the share rule alone an H200 rendered a 1024² target of
+        // 1e-3 for 2.9 s (1720 spp), where 256 spp already gave an estimate of 7.0e-4.
         let by_time = since >= ESTIMATE_INTERVAL_S && since >= read_s / ESTIMATE_TIME_SHARE;
         if want_estimate && (by_time || stop.estimate_due(&run)) {
             gpu.read_into(&mut acc, run.samples, settings.first_sample)?;
