@@ -1,8 +1,9 @@
 //! Storage and uniform buffers, with upload and read-back that work on every memory model
 //! ([`HostAccess`](super::HostAccess)): mapped and written in place where device memory is
 //! host-visible (lavapipe, integrated GPUs, resizable BAR), read in place only where it is also
-//! cached (not over a BAR), through the context's reused staging buffers and a copy elsewhere. Host access waits for the submissions in flight first
-//! ([`Context::drain`]), or for one given ticket (`*_after`, for double-buffered work).
+//! cached (not over a BAR), through the context's reused staging buffers and a copy elsewhere.
+//! Host access waits for the submissions in flight first ([`Context::drain`]), or for one given
+//! ticket (`*_after`, for double-buffered work).
 
 use super::commands::{submit_and_wait, Ticket};
 use super::memory::{MemoryLocation, RawBuffer};

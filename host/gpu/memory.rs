@@ -24,7 +24,7 @@ pub enum HostAccess {
     /// It is host-visible on the whole heap but not cached (a discrete GPU with resizable BAR):
     /// the host writes in place (write-combined stores over PCIe are fast) but reads through a
     /// copy into cached staging memory. Reading such a mapping in place is uncached: on an
-    /// H200 it held `vkrt trace` to 0.8 M rays/s against 400-1300 M rays/s of traversal.
+    /// H200 it held `vkrt trace` to 0.4-0.9 M rays/s against 100-700 M rays/s of traversal.
     MappedWrites,
     /// It is not host-visible (a discrete GPU without resizable BAR, or asked for): device
     /// buffers are written and read through a staging buffer and a copy.
@@ -58,11 +58,6 @@ impl HostAccess {
             "staged" => Some(HostAccess::Staged),
             _ => None,
         }
-    }
-
-    /// Whether device buffers are mapped (written in place).
-    pub fn maps_device_memory(self) -> bool {
-        self != HostAccess::Staged
     }
 
     /// Whether the host reads device buffers in place.
