@@ -60,9 +60,10 @@ layout(constant_id = SPEC_CORRECT_DIVISION) const bool CORRECT_DIVISION = true;
 // alone still rounds the wrong way. Checked bit for bit against the CPU by tests/division.rs,
 // on lavapipe from quotients put 2 ulps off. Quotients, reciprocals and dividends outside
 // [1e-18, 1e18] (zero, infinite, NaN, or where the split's low products would fall below the
-// normal range, which a device may flush to zero) keep the device's own. Three quotients at a time: the ray setup's six are two calls,
-// and every inlined copy of the body costs pipeline creation even where the constant is off
-// (lavapipe translates the dead code before it folds it away).
+// normal range, which a device may flush to zero) keep the device's own. Three quotients at a
+// time: the ray setup's six are two calls. `div_rn` puts the correction in a block on the
+// constant, not after an early return, which lavapipe would translate into every inlined BVH
+// walk before dropping it (docs/experiments/pipeline-creation-time.md).
 vec3 correct_quotient(vec3 a, vec3 b, vec3 q, vec3 y) {
     bvec3 ordinary = bvec3(uvec3(greaterThanEqual(abs(q), vec3(1e-18))) & uvec3(lessThanEqual(abs(q), vec3(1e18)))
         & uvec3(greaterThanEqual(abs(y), vec3(1e-18))) & uvec3(lessThanEqual(abs(y), vec3(1e18)))
