@@ -1,9 +1,9 @@
 //! The discrete-GPU submission shapes, run on any device: device buffers reached through the
 //! reused staging buffers (`VKRT_MEMORY=staged`, how a GPU without resizable BAR works), or
 //! written in place and read through staging (`VKRT_MEMORY=mapped-writes`, how one with it
-//! works: its mapping is uncached) give the same bytes as mapped memory, for Whitted, the adaptive path tracer (a host write between
-//! batches) and double-buffered ray queries; and images do not depend on the tile size (which
-//! only bounds a submission's work).
+//! works: its mapping is uncached) give the same bytes as mapped memory, for Whitted, the
+//! adaptive path tracer (a host write between batches) and double-buffered ray queries; and
+//! images do not depend on the tile size (which only bounds a submission's work).
 
 mod common;
 

@@ -180,13 +180,13 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>> {
     result
 }
 
-/// The access a context uses: the device's own, or a forced one that the device can do (a
-/// device whose memory is not host-visible cannot map it, whatever is asked).
+/// The access a context uses: the device's own, or the forced one (`MappedWrites` or `Staged`,
+/// [`HostAccess::from_name`]) where the device can do it: memory that is not host-visible
+/// cannot be mapped, whatever is asked.
 fn effective_access(own: HostAccess, forced: Option<HostAccess>) -> HostAccess {
-    match (own, forced) {
-        (HostAccess::Staged, _) | (_, None) => own,
-        (HostAccess::MappedWrites, Some(HostAccess::Mapped)) => own,
-        (_, Some(f)) => f,
+    match forced {
+        Some(f) if own != HostAccess::Staged => f,
+        _ => own,
     }
 }
 

@@ -17,6 +17,12 @@ pub const FIXED_UNIT: f64 = 1.0 / (1u64 << ACCUM_FRACTION_BITS) as f64;
 /// sum is one unit of work and of the fixed summation order.
 const ESTIMATE_CHUNK: usize = 16384;
 
+/// A pixel's mean: its fixed-point `sum` over `count` samples, 0 without samples.
+fn mean(sum: [u64; 3], count: u64) -> [f32; 3] {
+    let scale = if count > 0 { FIXED_UNIT / count as f64 } else { 0.0 };
+    sum.map(|c| (c as f64 * scale) as f32)
+}
+
 /// Radiance sums per pixel, row 0 at the top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Accumulation {
@@ -77,14 +83,7 @@ impl Accumulation {
         Image {
             width: self.width,
             height: self.height,
-            pixels: sums
-                .enumerate()
-                .map(|(p, s)| {
-                    let n = count(p);
-                    let scale = if n > 0 { FIXED_UNIT / n as f64 } else { 0.0 };
-                    s.map(|c| (c as f64 * scale) as f32)
-                })
-                .collect(),
+            pixels: sums.enumerate().map(|(p, s)| mean(s, count(p))).collect(),
         }
     }
 
@@ -153,47 +152,36 @@ impl Accumulation {
         Some(total / (pixels * 3).max(1) as f64)
     }
 
-    /// Pixel p's term of [`Self::estimate_relmse`]: its half-images' spread relative to the
-    /// image (as [`Self::half_spreads`], the same float operations) over n (1/n_a + 1/n_b).
-    /// None while a half has no sample.
+    /// Pixel p's term of [`Self::estimate_relmse`]: its [`Self::spread`] over
+    /// n (1/n_a + 1/n_b). None while a half has no sample.
     fn scaled_spread(&self, p: usize) -> Option<f64> {
         let (n, na) = self.counts(p);
         let nb = n - na;
         if na == 0 || nb == 0 {
             return None;
         }
-        let mean = |sum: u64, count: u64| (sum as f64 * (FIXED_UNIT / count as f64)) as f32;
-        let (e, o, t) = (self.even[p], self.odd[p], self.total(p));
-        let spread: f64 = (0..3)
-            .map(|c| {
-                let d = (mean(e[c], na) - mean(o[c], nb)) as f64;
-                let f = mean(t[c], n) as f64;
-                d * d / (f * f + 0.01)
-            })
-            .sum();
-        Some(spread / (n as f64 * (1.0 / na as f64 + 1.0 / nb as f64)))
+        Some(self.spread(p) / (n as f64 * (1.0 / na as f64 + 1.0 / nb as f64)))
     }
 
-    /// Per pixel, the two half-images' spread relative to the image: the sum over the channels
-    /// of (A - B)^2 / (F^2 + 0.01), F the full image (the relMSE's denominator, as
-    /// `../shared/refs` defines it). What `estimate_relmse` averages and adaptive sampling maps.
-    pub fn half_spreads(&self) -> Vec<f64> {
-        let (a, b) = self.halves();
-        let full = self.image();
-        a.pixels
-            .iter()
-            .zip(&b.pixels)
-            .zip(&full.pixels)
-            .map(|((pa, pb), pf)| {
-                (0..3)
-                    .map(|c| {
-                        let d = (pa[c] - pb[c]) as f64;
-                        let f = pf[c] as f64;
-                        d * d / (f * f + 0.01)
-                    })
-                    .sum()
+    /// Pixel p's half-images' spread relative to the image: the sum over the channels of
+    /// (A - B)^2 / (F^2 + 0.01), F the full image (the relMSE's denominator, as
+    /// `../shared/refs` defines it), from the pixel's sums alone.
+    fn spread(&self, p: usize) -> f64 {
+        let (n, na) = self.counts(p);
+        let (a, b, f) = (mean(self.even[p], na), mean(self.odd[p], n - na), mean(self.total(p), n));
+        (0..3)
+            .map(|c| {
+                let d = (a[c] - b[c]) as f64;
+                let f = f[c] as f64;
+                d * d / (f * f + 0.01)
             })
-            .collect()
+            .sum()
+    }
+
+    /// Per pixel, the two half-images' spread relative to the image ([`Self::spread`]): what
+    /// `estimate_relmse` averages and adaptive sampling maps.
+    pub fn half_spreads(&self) -> Vec<f64> {
+        (0..self.even.len()).map(|p| self.spread(p)).collect()
     }
 
     /// Samples dropped as NaN, infinite or out of range, over all pixels.

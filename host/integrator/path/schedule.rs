@@ -8,8 +8,8 @@ use anyhow::{bail, Result};
 
 /// A uniform run's next batch: `batch` samples per pixel, or what is left of `stop.spp`, or up
 /// to where the target error wants its next estimate (`target_at`,
-/// [`Stop::next_estimate_samples`], so that the estimate there decides), from sample index `next` on, `taken` samples into the
-/// run.
+/// [`Stop::next_estimate_samples`], so that the estimate there decides), from sample index
+/// `next` on, `taken` samples into the run.
 pub fn uniform_batch(next: u64, batch: u64, stop: &Stop, taken: u64, target_at: Option<u64>) -> Result<u64> {
     let count = stop.spp.map_or(batch, |n| batch.min(n.saturating_sub(taken)));
     let count = match target_at {
