@@ -4,6 +4,7 @@
 // (host/query/ray_query.rs). Geometry only: no alpha test (no ALPHA_TEST define).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "bvh_bindings.glsl"
 #include "traverse.glsl"
@@ -18,7 +19,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.ray_count) return;
     GpuRay ray = rays[i];
-    Hit h = traverse(ray.origin, ray.direction, ray.tmin, ray.tmax, push.any_hit != 0u);
+    Hit h = trace_scene(ray.origin, ray.direction, ray.tmin, ray.tmax, push.any_hit != 0u);
     GpuHit out_hit;
     out_hit.t = h.t;
     out_hit.prim = h.prim;

@@ -5,6 +5,7 @@
 // One invocation per pixel of a tile; each dispatch adds push.sample_count samples to accum.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "scene_bindings.glsl"
 #include "features.glsl"

@@ -120,6 +120,7 @@ fn trace_command_matches_brute_force_for_every_layout() {
             output: out.clone(),
             builder: BuilderKind::Reinsertion,
             layout,
+            no_triangle_list: false,
             any_hit: false,
             order: vkrt::query::ray_order::RayOrder::Auto,
             device: vkrt::cli::DeviceArgs { device: None },

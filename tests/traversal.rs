@@ -131,14 +131,18 @@ fn check_chain(name: &str, scene: &Scene, rays: &[GpuRay]) -> usize {
             let walked = tree_walk(&tree, &scene.triangles, r);
             assert_same_hit(&format!("{name} {builder:?} ray {i}: tree walk vs brute force"), r, &brute[i], &walked, 0);
         }
-        for layout in LayoutKind::ALL {
-            let prepared = PreparedScene::new(scene, &PrepareOptions { builder, layout, ..Default::default() }).unwrap();
+        // With the triangle list (the default) and with every triangle in the tree.
+        for (layout, triangle_list) in LayoutKind::ALL.into_iter().flat_map(|l| [(l, true), (l, false)]) {
+            let prepared = PreparedScene::new(scene, &PrepareOptions { builder, layout, triangle_list, ..Default::default() }).unwrap();
             assert_eq!(prepared.flat.layout(), layout);
+            if !triangle_list {
+                assert!(prepared.flat.list().is_empty());
+            }
             let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
             let gpu_hits = trace_rays(&ctx, &gpu.bvh, rays, false).unwrap();
             let gpu_any = trace_rays(&ctx, &gpu.bvh, rays, true).unwrap();
             for (i, r) in rays.iter().enumerate() {
-                let what = format!("{name} {builder:?} {} ray {i}", layout.name());
+                let what = format!("{name} {builder:?} {} (triangle list {triangle_list}) ray {i}", layout.name());
                 let twin = prepared.flat.trace(r, false);
                 assert_same_hit(&format!("{what}: flat twin vs brute force"), r, &brute[i], &twin, 0);
                 assert_same_hit(&format!("{what}: GPU vs flat twin"), r, &twin, &gpu_hits[i], GPU_T_TOLERANCE_ULPS);
@@ -161,6 +165,11 @@ fn check_chain(name: &str, scene: &Scene, rays: &[GpuRay]) -> usize {
 fn random_soups_agree_along_the_chain() {
     for (n, seed) in [(1usize, 1u64), (7, 2), (500, 3), (5000, 4)] {
         let scene = common::procedural::random_soup(n, seed);
+        if n == 1 {
+            // One triangle spans the scene: it is the list, and the tree is empty.
+            let prepared = PreparedScene::new(&scene, &PrepareOptions::default()).unwrap();
+            assert_eq!(prepared.flat.list().len(), 1);
+        }
         let rays = test_rays(&scene, 3000, seed + 100);
         let hits = check_chain(&format!("soup {n}"), &scene, &rays);
         // The aimed third of the rays nearly always hit: the test is not vacuous.
@@ -171,6 +180,10 @@ fn random_soups_agree_along_the_chain() {
 #[test]
 fn cornell_box_agrees_along_the_chain() {
     let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.obj")).unwrap();
+    // The chain covers the list and the tree together: the box's ten wall, floor and ceiling
+    // triangles are listed, the blocks and the light are in the tree.
+    let prepared = PreparedScene::new(&scene, &PrepareOptions::default()).unwrap();
+    assert_eq!(prepared.flat.list().len(), 10);
     let rays = test_rays(&scene, 6000, 7);
     let hits = check_chain("cornell", &scene, &rays);
     assert!(hits >= rays.len() / 2, "cornell: only {hits} of {} rays hit", rays.len());

@@ -13,12 +13,13 @@ pub mod leaf;
 pub mod multi_order;
 pub mod parent_link;
 pub mod threaded;
+pub mod triangle_list;
 pub mod wide;
 
 pub use kinds::{LayoutInfo, LayoutKind, LAYOUTS};
 
 use crate::bvh::{Bvh, MAX_LEAF_SIZE};
-use crate::gpu_abi::constants::LEAF_COUNT_BITS;
+use crate::gpu_abi::constants::{LEAF_COUNT_BITS, PRIM_NONE};
 use crate::gpu_abi::{GpuHit, GpuPush, GpuRay, GpuTriangle};
 use crate::scene::Triangle;
 use anyhow::Context as _;
@@ -68,11 +69,14 @@ macro_rules! node_array {
 pub(crate) use node_array;
 
 /// The flat arrays of one layout: nodes, and the triangles reordered so that each leaf's
-/// triangles are contiguous (shared by every layout).
+/// triangles are contiguous (shared by every layout), followed by the triangle list
+/// ([`triangle_list`]: `triangles[list_first..]`, outside the tree, tested before every walk).
 #[derive(Debug)]
 pub struct FlatBvh {
     pub nodes: Box<dyn NodeArray>,
     pub triangles: Vec<GpuTriangle>,
+    /// Where the triangle list starts in `triangles`; `triangles.len()` without one.
+    pub list_first: usize,
 }
 
 impl FlatBvh {
@@ -86,14 +90,35 @@ impl FlatBvh {
     pub fn bytes(&self) -> usize {
         self.nodes.bytes().len() + std::mem::size_of_val(self.triangles.as_slice())
     }
-    /// The CPU twin of this layout's shader: same hit, same counters.
+    /// The triangle list (empty without one).
+    pub fn list(&self) -> &[GpuTriangle] {
+        &self.triangles[self.list_first..]
+    }
+    /// The CPU twin of `trace_scene` (shaders/include/traverse.glsl): the triangle list, then
+    /// this layout's walk up to the list's hit (an any-hit query walks only if the list missed).
+    /// Same hit, same counters.
     pub fn trace(&self, ray: &GpuRay, any_hit: bool) -> GpuHit {
-        self.nodes.trace(&self.triangles, ray, any_hit)
+        if self.list().is_empty() {
+            return self.nodes.trace(&self.triangles, ray, any_hit);
+        }
+        let listed = triangle_list::trace(self.list(), ray);
+        if any_hit && listed.prim != PRIM_NONE {
+            return listed;
+        }
+        let tmax = if listed.prim != PRIM_NONE { listed.t } else { ray.tmax };
+        let walked = self.nodes.trace(&self.triangles, &GpuRay { tmax, ..*ray }, any_hit);
+        let best = if walked.prim != PRIM_NONE { walked } else { listed };
+        GpuHit { nodes_visited: walked.nodes_visited, tris_tested: listed.tris_tested + walked.tris_tested, ..best }
     }
     /// The push constants that describe these arrays (node count, layout data); each dispatch
     /// fills in the rest.
     pub fn push(&self) -> GpuPush {
-        let mut push = GpuPush { node_count: self.node_count() as u32, ..bytemuck::Zeroable::zeroed() };
+        let mut push = GpuPush {
+            node_count: self.node_count() as u32,
+            list_first: self.list_first as u32,
+            list_count: self.list().len() as u32,
+            ..bytemuck::Zeroable::zeroed()
+        };
         self.nodes.fill_push(&mut push);
         push
     }
@@ -120,7 +145,24 @@ pub fn flatten(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind) -> anyhow::Resu
     );
     let (triangles, nodes) = (triangles?, nodes?);
     debug_assert_eq!(nodes.kind(), layout);
-    Ok(FlatBvh { nodes, triangles })
+    let list_first = triangles.len();
+    Ok(FlatBvh { nodes, triangles, list_first })
+}
+
+/// Lays `bvh` out as `layout` with the triangle list after its triangles: `bvh` is built over
+/// the triangles not in `listed` (its primitive ids index `tris`), `listed` the list's
+/// triangles by index into `tris` ([`triangle_list::choose`]).
+pub fn flatten_with_list(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind, listed: &[u32]) -> anyhow::Result<FlatBvh> {
+    let mut flat = flatten(bvh, tris, layout)?;
+    for &prim in listed {
+        let t = tris.get(prim as usize).with_context(|| format!("the triangle list names primitive {prim} of {}", tris.len()))?;
+        flat.triangles.push(gpu_triangle(t, prim));
+    }
+    Ok(flat)
+}
+
+fn gpu_triangle(t: &Triangle, prim: u32) -> GpuTriangle {
+    GpuTriangle { v0: t.p[0].to_array(), prim, v1: t.p[1].to_array(), _pad0: 0, v2: t.p[2].to_array(), _pad1: 0 }
 }
 
 /// The triangles in `prim_indices` order, so a leaf's `first..first + count` indexes them.
@@ -133,7 +175,7 @@ fn leaf_order_triangles(bvh: &Bvh, tris: &[Triangle]) -> anyhow::Result<Vec<GpuT
         .par_iter()
         .map(|&prim| {
             let t = tris.get(prim as usize).with_context(|| format!("BVH names primitive {prim} of {} triangles", tris.len()))?;
-            Ok(GpuTriangle { v0: t.p[0].to_array(), prim, v1: t.p[1].to_array(), _pad0: 0, v2: t.p[2].to_array(), _pad1: 0 })
+            Ok(gpu_triangle(t, prim))
         })
         .collect()
 }

@@ -79,6 +79,10 @@ pub struct RenderArgs {
     /// BVH layout the shaders walk [default: threaded]; none changes the image.
     #[arg(long, value_enum)]
     pub layout: Option<LayoutKind>,
+    /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
+    /// triangles (a room's walls) otherwise join, tested by every ray before its walk.
+    #[arg(long)]
+    pub no_triangle_list: bool,
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
@@ -396,7 +400,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let ctx = args.device.context()?;
     check_image_size(&ctx.info, width, height, integrator)?;
 
-    let options = PrepareOptions { builder, layout, build: BuildConfig::default() };
+    let options = PrepareOptions { builder, layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
     let cache = args.scene_cache();
     let t0 = Instant::now();
     let (prepared, cache_outcome, storing, parse_s) = prepare_scene(&scene_path, &options, cache.as_ref(), &mut |w| say.line(&format!("warning: {w}")))?;

@@ -33,6 +33,10 @@ pub struct TraceArgs {
     /// BVH layout the shader walks.
     #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
     pub layout: LayoutKind,
+    /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
+    /// triangles (a room's walls) otherwise join, tested by every ray before its walk.
+    #[arg(long)]
+    pub no_triangle_list: bool,
     /// Any-hit (shadow) queries: stop at the first hit found, not the closest.
     #[arg(long)]
     pub any_hit: bool,
@@ -63,7 +67,7 @@ pub struct TraceReport {
 pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let mut reader = RayReader::open(&args.rays)?;
     let scene = crate::scene::load_scene(&args.scene)?;
-    let options = PrepareOptions { builder: args.builder, layout: args.layout, build: BuildConfig::default() };
+    let options = PrepareOptions { builder: args.builder, layout: args.layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
     let (flat, build_times) = build_bvh(&scene, &options)?;
     let ctx = args.device.context()?;
     let bvh = GpuBvh::upload(&ctx, &flat)?;

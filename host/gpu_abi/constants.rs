@@ -96,6 +96,14 @@ shared_constants! {
     /// The path tracer's caustic casters (`GpuCaster[]`, 3 texels each; `crate::prepare::casters`):
     /// diffuse bounces are partly aimed at them (one zero entry without any).
     BINDING_CASTERS = 42;
+    /// The triangle list (`GpuTriangle[MAX_LIST_TRIANGLES]`, uniform buffer): the scene's few
+    /// largest triangles, kept out of the BVH and tested by every ray before its walk
+    /// (`crate::accel::triangle_list`).
+    BINDING_TRIANGLE_LIST = 43;
+    /// Triangles the triangle list holds at most: each is a test for every ray and an unrolled
+    /// copy of the test at every trace call site (pipeline creation time), so only a room's
+    /// worth (docs/experiments/triangle-list.md: 44 of Sponza's listed cost 13 %).
+    MAX_LIST_TRIANGLES = 16;
     /// Fractional bits of those sums: a sample's radiance c >= 0 adds round(c 2^24). Integer
     /// sums are exact and the same in any order, so a run split into batches, resumed runs and
     /// merged shards give the same bytes as one run. Quantum 6e-8; a pixel's sum holds up to
@@ -115,6 +123,9 @@ shared_constants! {
     /// computes (`div_rn`, shaders/include/intersect.glsl); 0 on lavapipe, whose division is
     /// IEEE already. Set for every pipeline from `gpu::DeviceInfo::divides_exactly`.
     SPEC_CORRECT_DIVISION = 17;
+    /// How many triangles the triangle list holds (`GpuPush::list_count`): the tracing shaders
+    /// unroll its loop for this count; 0 compiles it out.
+    SPEC_LIST_TRIANGLES = 18;
 
     /// A leaf packs (first triangle << LEAF_COUNT_BITS) | count into one u32; 0 count = interior.
     LEAF_COUNT_BITS = 8;

@@ -70,8 +70,11 @@ gpu_structs! {
         /// The path tracer: 1 for the mirror-probe pass (one value per pixel into
         /// BINDING_MIRROR_PROBE, no samples; shaders/include/mirror_probe.glsl), 0 to sample.
         pub probe: u32,
-        pub _pad2: u32,
-        pub _pad3: u32,
+        /// The triangle list (`crate::accel::triangle_list`): where it starts in the
+        /// triangle array, and how many triangles it holds (0: none; the shaders unroll its
+        /// loop for SPEC_LIST_TRIANGLES, which the pipelines set to this count).
+        pub list_first: u32,
+        pub list_count: u32,
     }
 
     /// The path tracer's per-render settings (uniform buffer, std140).

@@ -60,4 +60,5 @@ pub const INTEGRATOR_BINDINGS: &[(u32, BindingKind)] = &[
     (BINDING_ENV_CDF, BindingKind::Texels),
     (BINDING_TANGENTS, BindingKind::Texels),
     (BINDING_FRAME, BindingKind::Uniform),
+    (BINDING_TRIANGLE_LIST, BindingKind::Uniform),
 ];

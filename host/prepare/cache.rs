@@ -32,7 +32,7 @@ use std::time::Instant;
 use xxhash_rust::xxh3::{xxh3_128, Xxh3};
 
 /// Bumped whenever the file layout or the meaning of a stored array changes.
-pub const CACHE_FORMAT: u32 = 6; // 6: reinsertion starts from the binned tree (was the sweep's), so its entries differ; 5: light picks store their alias's pmf (was padding); 4: GpuPush grew to 80 bytes
+pub const CACHE_FORMAT: u32 = 7; // 7: the triangle list (push.list_first, list_count; the tree leaves its triangles out); 6: reinsertion starts from the binned tree (was the sweep's), so its entries differ; 5: light picks store their alias's pmf (was padding); 4: GpuPush grew to 80 bytes
 const MAGIC: &[u8; 8] = b"VKRTPREP";
 const HEADER_BYTES: usize = 64;
 /// Arrays start at multiples of this: every GPU struct's alignment divides it.
@@ -238,11 +238,12 @@ pub fn entry_key(scene_path: &Path, options: &PrepareOptions) -> u128 {
     let b = &options.build;
     // The thread count is left out: the tree does not depend on it.
     let text = format!(
-        "format {CACHE_FORMAT}; vkrt {}; scene {}; builder {}; layout {}; leaf {}; bins {}; costs {} {}; texel budget {}",
+        "format {CACHE_FORMAT}; vkrt {}; scene {}; builder {}; layout {}; triangle list {}; leaf {}; bins {}; costs {} {}; texel budget {}",
         env!("CARGO_PKG_VERSION"),
         path.display(),
         options.builder.name(),
         options.layout.name(),
+        options.triangle_list,
         b.max_leaf_size,
         b.sah_bins,
         b.traversal_cost,

@@ -17,7 +17,7 @@ pub use envmap::EnvLight;
 pub use features::Features;
 pub use upload::{GpuBvh, GpuScene};
 
-use crate::accel::{self, FlatBvh, LayoutKind};
+use crate::accel::{self, triangle_list, FlatBvh, LayoutKind};
 use crate::bvh::{self, BuildConfig, BuilderKind};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::TEXTURE_NONE;
@@ -38,13 +38,22 @@ pub fn content_hash(path: &std::path::Path) -> Result<u64> {
 }
 
 /// How to build and lay out the BVH.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PrepareOptions {
     /// Default: reinsertion (binned SAH, refined).
     pub builder: BuilderKind,
     /// Default: threaded.
     pub layout: LayoutKind,
     pub build: BuildConfig,
+    /// Keep the largest triangles out of the tree in the triangle list
+    /// (`accel::triangle_list`). Default: on.
+    pub triangle_list: bool,
+}
+
+impl Default for PrepareOptions {
+    fn default() -> Self {
+        Self { builder: BuilderKind::default(), layout: LayoutKind::default(), build: BuildConfig::default(), triangle_list: true }
+    }
 }
 
 /// What the integrators need to know about a scene besides its arrays.
@@ -203,10 +212,28 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
     let lap = || clock.elapsed().as_secs_f64();
     let (boxes, centroids) = crate::scene::triangle_boxes(&scene.triangles);
     let t_boxes = lap();
-    let tree = bvh::build(options.builder, &boxes, &centroids, &options.build);
+    // The few triangles that span much of the scene go to the triangle list, the rest to the
+    // tree (accel::triangle_list says why); the tree's primitive ids index scene.triangles.
+    let listed = if options.triangle_list { triangle_list::choose(&boxes) } else { Vec::new() };
+    let mut in_tree = vec![true; boxes.len()];
+    for &i in &listed {
+        in_tree[i as usize] = false;
+    }
+    let kept: Vec<u32> = (0..boxes.len() as u32).filter(|&i| in_tree[i as usize]).collect();
+    let tree = if listed.is_empty() {
+        bvh::build(options.builder, &boxes, &centroids, &options.build)
+    } else {
+        let kept_boxes: Vec<_> = kept.iter().map(|&i| boxes[i as usize]).collect();
+        let kept_centroids: Vec<_> = kept.iter().map(|&i| centroids[i as usize]).collect();
+        let mut tree = bvh::build(options.builder, &kept_boxes, &kept_centroids, &options.build);
+        for p in tree.prim_indices.iter_mut() {
+            *p = kept[*p as usize];
+        }
+        tree
+    };
     drop((boxes, centroids));
     let t_tree = lap();
-    let flat = accel::flatten(&tree, &scene.triangles, options.layout)
+    let flat = accel::flatten_with_list(&tree, &scene.triangles, options.layout, &listed)
         .with_context(|| format!("flattening the BVH as {}", options.layout.name()))?;
     let t_flat = lap();
     Ok((flat, PrepareTimes { boxes: t_boxes, tree: t_tree - t_boxes, flatten: t_flat - t_tree, shading: 0.0 }))

@@ -6,17 +6,23 @@
 
 use super::{PreparedScene, SceneArrays, SceneInfo};
 use crate::accel::{FlatBvh, LayoutKind};
-use crate::gpu::{Context, TexelArray, TexelFormat};
+use crate::gpu::{Buffer, Context, TexelArray, TexelFormat};
 use crate::gpu_abi::constants::*;
 use crate::gpu_abi::{GpuPush, GpuTriangle};
 use crate::pipeline::ComputePipeline;
 use anyhow::{Context as _, Result};
+use ash::vk;
+use bytemuck::Zeroable;
 
 /// A BVH on the device: nodes of one layout and the triangles in leaf order.
 pub struct GpuBvh<'a> {
     pub nodes: TexelArray<'a>,
     pub triangles: TexelArray<'a>,
     pub triangle_count: u32,
+    /// The triangle list's uniform block (BINDING_TRIANGLE_LIST, `accel::triangle_list`) and
+    /// how many triangles it holds: every pipeline that traces sets SPEC_LIST_TRIANGLES to it.
+    pub list: Buffer<'a>,
+    pub list_count: u32,
     /// Which layout `nodes` holds: shaders must be the variant for it.
     pub layout: LayoutKind,
     /// The BVH's part of the push constants (node count, layout data); each dispatch fills in
@@ -34,7 +40,15 @@ impl<'a> GpuBvh<'a> {
     /// The same from the arrays themselves (`layout`'s node bytes, the triangles in leaf order
     /// and the BVH's push constants), wherever they are: a `FlatBvh`, or a mapped cache file.
     pub fn upload_arrays(ctx: &'a Context, layout: LayoutKind, nodes: &[u8], triangles: &[GpuTriangle], push: GpuPush) -> Result<Self> {
+        // The triangle list as its uniform block holds it: MAX_LIST_TRIANGLES entries, the
+        // unused ones zero (the shader's loop reads only push.list_count of them).
+        let first = (push.list_first as usize).min(triangles.len());
+        let listed = &triangles[first..(first + push.list_count as usize).min(triangles.len())];
+        let mut block = vec![GpuTriangle::zeroed(); MAX_LIST_TRIANGLES as usize];
+        block[..listed.len()].copy_from_slice(listed);
         Ok(Self {
+            list: Buffer::with_data(ctx, "triangle list", &block, vk::BufferUsageFlags::UNIFORM_BUFFER)?,
+            list_count: listed.len() as u32,
             nodes: TexelArray::with_data(ctx, "BVH nodes", nodes, TexelFormat::Rgba32Uint)?,
             triangles: TexelArray::with_data(ctx, "triangles", triangles, TexelFormat::Rgba32Uint)?,
             triangle_count: triangles.len() as u32,
@@ -43,10 +57,18 @@ impl<'a> GpuBvh<'a> {
         })
     }
 
-    /// Binds the node and triangle texel buffers (BINDING_NODES, BINDING_TRIANGLES).
+    /// Binds the node and triangle texel buffers and the triangle list (BINDING_NODES,
+    /// BINDING_TRIANGLES, BINDING_TRIANGLE_LIST).
     pub fn bind(&self, pipeline: &ComputePipeline) -> Result<()> {
         pipeline.bind_texels(BINDING_NODES, &self.nodes.view)?;
-        pipeline.bind_texels(BINDING_TRIANGLES, &self.triangles.view)
+        pipeline.bind_texels(BINDING_TRIANGLES, &self.triangles.view)?;
+        pipeline.bind(BINDING_TRIANGLE_LIST, &self.list)
+    }
+
+    /// The specialization constant every tracing pipeline for this BVH needs: the triangle
+    /// list's size, for which the shaders unroll its loop.
+    pub fn spec_constants(&self) -> [(u32, u32); 1] {
+        [(SPEC_LIST_TRIANGLES, self.list_count)]
     }
 }
 

@@ -115,10 +115,11 @@ impl<'a> RayQuery<'a> {
         let bindings = [
             (BINDING_NODES, BindingKind::Texels),
             (BINDING_TRIANGLES, BindingKind::Texels),
+            (BINDING_TRIANGLE_LIST, BindingKind::Uniform),
             (BINDING_RAYS, BindingKind::Storage),
             (BINDING_HITS, BindingKind::Storage),
         ];
-        let pipeline = ComputePipeline::new(ctx, "trace", spv, &bindings, size_of::<GpuPush>() as u32)?;
+        let pipeline = ComputePipeline::specialized(ctx, "trace", spv, &bindings, size_of::<GpuPush>() as u32, &bvh.spec_constants())?;
         bvh.bind(&pipeline)?;
         let slots = (0..IN_FLIGHT).map(|_| Slot::new(ctx)).collect::<Result<Vec<_>>>()?;
         for (set, slot) in slots.iter().enumerate() {

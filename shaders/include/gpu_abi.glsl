@@ -161,8 +161,8 @@ struct GpuPush {
     uint group_width;
     uint group_height;
     uint probe;
-    uint _pad2;
-    uint _pad3;
+    uint list_first;
+    uint list_count;
 };
 
 struct GpuRay {

@@ -1,6 +1,6 @@
-// The traversal interface every tracing shader uses: traverse(), trace_closest() and occluded(),
-// returning a Hit (leaf.glsl). The BVH layout behind them is the one the shader variant's
-// LAYOUT_* define names: host/build.rs compiles each tracing shader once per layout in
+// The traversal interface every tracing shader uses: trace_scene(), trace_closest() and
+// occluded(), returning a Hit (leaf.glsl): the triangle list, then the BVH walk, traverse().
+// The BVH layout behind the walk is the one the shader variant's LAYOUT_* define names: host/build.rs compiles each tracing shader once per layout in
 // host/accel/kinds.rs and generates bvh_walk.glsl, which includes that layout's
 // traverse_<id>.glsl. Each of those defines `Hit traverse(origin, dir, tmin, tmax, any_hit)` and
 // names its CPU twin in its first lines.
@@ -8,15 +8,40 @@
 #define VKRT_TRAVERSE_GLSL
 #include "leaf.glsl"
 #include "bvh_walk.glsl"
+#include "triangle_list.glsl"
+
+// The scene's closest hit (any_hit false) or any hit along origin + t*dir, tmin < t < tmax:
+// the triangle list (triangle_list.glsl), then the BVH walk up to the list's hit; an any-hit
+// query walks only if the list found nothing. Counters: the walk's nodes, both's triangles.
+// CPU twin: accel::FlatBvh::trace.
+Hit trace_scene(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    Hit h;
+    // A block on the specialization constant, not an early return: lavapipe would inline the
+    // walk into the dead branch before removing it (docs/experiments/pipeline-creation-time.md).
+    if (LIST_TRIANGLES > 0u) {
+        h = trace_list(ray_pre(origin, dir, tmin, tmax), tmax);
+        if (!(any_hit && h.prim != PRIM_NONE)) {
+            // Up to the list's hit; tmax itself otherwise (min() might drop a NaN tmax).
+            Hit walked = traverse(origin, dir, tmin, h.prim != PRIM_NONE ? h.t : tmax, any_hit);
+            uint listed_tests = h.tris_tested;
+            if (walked.prim != PRIM_NONE) h = walked;
+            h.nodes_visited = walked.nodes_visited;
+            h.tris_tested = listed_tests + walked.tris_tested;
+        }
+    } else {
+        h = traverse(origin, dir, tmin, tmax, any_hit);
+    }
+    return h;
+}
 
 // Closest hit along origin + t*dir for tmin < t < tmax.
 Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax) {
-    return traverse(origin, dir, tmin, tmax, false);
+    return trace_scene(origin, dir, tmin, tmax, false);
 }
 
 // Shadow query: is anything opaque between origin + tmin*dir and origin + tmax*dir?
 bool occluded(vec3 origin, vec3 dir, float tmin, float tmax) {
-    return traverse(origin, dir, tmin, tmax, true).prim != PRIM_NONE;
+    return trace_scene(origin, dir, tmin, tmax, true).prim != PRIM_NONE;
 }
 
 #endif

@@ -8,6 +8,7 @@
 // struct, from the generated bvh_node.glsl).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "bvh_node.glsl"
 #include "scene_bindings.glsl"

@@ -103,7 +103,7 @@ impl<'a> PathGpu<'a> {
             shader.spirv(scene.bvh.layout),
             &bindings,
             std::mem::size_of::<GpuPush>() as u32,
-            &features.spec_constants(),
+            &[features.spec_constants(), scene.bvh.spec_constants().to_vec()].concat(),
         )?;
         scene.bind(&pipeline)?;
         scene.bind_path_arrays(&pipeline)?;

@@ -1,0 +1,48 @@
+// The triangle list: the scene's few largest triangles (a room's walls), kept out of the BVH and
+// tested by every ray before its walk. host/accel/triangle_list.rs says why and chooses them;
+// it is also the CPU twin of trace_list.
+//
+// The loop is unrolled for the list's size (a specialization constant), so every triangle is
+// read at a constant offset of a uniform block: lavapipe then loads it once as scalars and
+// broadcasts it to the lanes (lp_bld_nir_soa.c, emit_load_ubo on an always-uniform offset),
+// where the walk pays a texel-fetch call per node and triangle (docs/experiments/
+// triangle-list.md); GPUs read it through their constant cache.
+#ifndef VKRT_TRIANGLE_LIST_GLSL
+#define VKRT_TRIANGLE_LIST_GLSL
+#include "leaf.glsl"
+
+layout(constant_id = SPEC_LIST_TRIANGLES) const uint LIST_TRIANGLES = 0u;
+
+// std140: GpuTriangle is three 16-byte rows, so the array's stride is its std430 size (48 B).
+layout(set = 0, binding = BINDING_TRIANGLE_LIST, std140) uniform TriangleList {
+    GpuTriangle list_triangles[MAX_LIST_TRIANGLES];
+};
+
+// The closest hit among the list's triangles below tmax, in list order (a later triangle wins
+// only if strictly closer). A ray with an empty interval, or a NaN anywhere (ray_pre gives it
+// tmin = +inf), tests nothing, as it fails at a BVH's root. No early exit for any-hit queries:
+// the loop is unrolled, and its lanes run every test anyway.
+Hit trace_list(RayPre r, float tmax) {
+    Hit hit = hit_none();
+    if (r.tmin < tmax) {
+        [[unroll]] for (uint i = 0u; i < LIST_TRIANGLES; i++) {
+            GpuTriangle tri = list_triangles[i];
+            hit.tris_tested++;
+            float t, u, v;
+            if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
+#ifdef ALPHA_TEST
+                if (!alpha_passes(tri.prim, u, v, r)) continue;
+#endif
+                tmax = t;
+                hit.t = t;
+                hit.prim = tri.prim;
+                hit.u = u;
+                hit.v = v;
+                hit.slot = push.list_first + i;
+            }
+        }
+    }
+    return hit;
+}
+
+#endif
