@@ -36,6 +36,26 @@ Hit hit_none() {
     return hit;
 }
 
+// Test one triangle (at `slot` of the triangle array): on a hit closer than tmax, shrink tmax,
+// record it in hit and return true; count the test either way. Shared by the leaf test and the
+// triangle list (triangle_list.glsl). CPU twins: accel::leaf::test_leaf, accel::triangle_list::trace.
+bool test_triangle(GpuTriangle tri, uint slot, RayPre r, inout float tmax, inout Hit hit) {
+    hit.tris_tested++;
+    float t, u, v;
+    if (!intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) return false;
+#ifdef ALPHA_TEST
+    // A see-through texel is no hit at all (alpha.glsl).
+    if (!alpha_passes(tri.prim, u, v, r)) return false;
+#endif
+    tmax = t;
+    hit.t = t;
+    hit.prim = tri.prim;
+    hit.u = u;
+    hit.v = v;
+    hit.slot = slot;
+    return true;
+}
+
 // Test a leaf's triangles in order, shrinking tmax and updating hit on each closer hit; true if
 // any was hit. An any-hit query stops at the first hit. CPU twin: accel::leaf::test_leaf.
 bool test_leaf(uint leaf, RayPre r, inout float tmax, inout Hit hit, bool any_hit) {
@@ -43,20 +63,7 @@ bool test_leaf(uint leaf, RayPre r, inout float tmax, inout Hit hit, bool any_hi
     uint count = leaf & ((1u << LEAF_COUNT_BITS) - 1u);
     bool found = false;
     for (uint i = first; i < first + count; i++) {
-        GpuTriangle tri = load_triangle(i);
-        hit.tris_tested++;
-        float t, u, v;
-        if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
-#ifdef ALPHA_TEST
-            // A see-through texel is no hit at all (alpha.glsl).
-            if (!alpha_passes(tri.prim, u, v, r)) continue;
-#endif
-            tmax = t;
-            hit.t = t;
-            hit.prim = tri.prim;
-            hit.u = u;
-            hit.v = v;
-            hit.slot = i;
+        if (test_triangle(load_triangle(i), i, r, tmax, hit)) {
             found = true;
             if (any_hit) break;
         }

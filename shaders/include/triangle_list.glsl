@@ -26,20 +26,7 @@ Hit trace_list(RayPre r, float tmax) {
     Hit hit = hit_none();
     if (r.tmin < tmax) {
         [[unroll]] for (uint i = 0u; i < LIST_TRIANGLES; i++) {
-            GpuTriangle tri = list_triangles[i];
-            hit.tris_tested++;
-            float t, u, v;
-            if (intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) {
-#ifdef ALPHA_TEST
-                if (!alpha_passes(tri.prim, u, v, r)) continue;
-#endif
-                tmax = t;
-                hit.t = t;
-                hit.prim = tri.prim;
-                hit.u = u;
-                hit.v = v;
-                hit.slot = push.list_first + i;
-            }
+            test_triangle(list_triangles[i], push.list_first + i, r, tmax, hit);
         }
     }
     return hit;
