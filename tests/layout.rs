@@ -104,6 +104,7 @@ fn bindings_and_array_strides_match() {
     let expected: Vec<(u32, &str, usize)> = vec![
         (BINDING_NODES, "Nodes", size_of::<GpuNode>()),
         (BINDING_TRIANGLES, "Triangles", size_of::<GpuTriangle>()),
+        (BINDING_TRIANGLE_LIST, "TriangleList", size_of::<GpuTriangle>()),
         (BINDING_SHADING, "Shading", size_of::<GpuShading>()),
         (BINDING_MATERIALS, "Materials", size_of::<GpuMaterial>()),
         (BINDING_LIGHTS, "Lights", size_of::<GpuLight>()),
@@ -184,4 +185,23 @@ fn every_shader_variant_passes_spirv_val() {
         assert!(out.status.success(), "spirv-val rejects {name}: {}", String::from_utf8_lossy(&out.stderr));
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The triangle list's uniform block (declared in bvh_bindings.glsl, which the probe includes):
+/// MAX_LIST_TRIANGLES GpuTriangles, what `prepare::GpuBvh` uploads. (Its binding and its
+/// std140 stride are checked with the other bindings above.)
+#[test]
+fn the_triangle_list_block_holds_what_is_uploaded() {
+    let module = probe_module();
+    let var = module
+        .global_variables
+        .iter()
+        .map(|(_, v)| v)
+        .find(|v| module.types[v.ty].name.as_deref() == Some("TriangleList"))
+        .expect("the TriangleList block");
+    let naga::TypeInner::Struct { members, .. } = &module.types[var.ty].inner else { panic!("TriangleList is not a block") };
+    let naga::TypeInner::Array { base, size, .. } = &module.types[members[0].ty].inner else { panic!("TriangleList holds no array") };
+    assert_eq!(module.types[*base].name.as_deref(), Some("GpuTriangle"));
+    let naga::ArraySize::Constant(n) = size else { panic!("TriangleList's array has no fixed size") };
+    assert_eq!(n.get(), MAX_LIST_TRIANGLES);
 }

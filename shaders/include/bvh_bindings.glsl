@@ -25,6 +25,13 @@
 
 layout(push_constant) uniform Push { GpuPush push; };
 
+// The triangle list (triangle_list.glsl, host/accel/triangle_list.rs): a uniform block, not a
+// texel buffer, since its loop is unrolled and every read is at a constant offset. std140:
+// GpuTriangle is three 16-byte rows, so the array's stride is its std430 size (48 B).
+layout(set = 0, binding = BINDING_TRIANGLE_LIST, std140) uniform TriangleList {
+    GpuTriangle list_triangles[MAX_LIST_TRIANGLES];
+};
+
 // The layout probe declares these bindings as struct arrays instead, to check their layout.
 #ifndef LAYOUT_PROBE
 // Texture (not sampler) buffers: a combined sampler of a buffer is deprecated in SPIR-V and

@@ -13,10 +13,8 @@
 
 layout(constant_id = SPEC_LIST_TRIANGLES) const uint LIST_TRIANGLES = 0u;
 
-// std140: GpuTriangle is three 16-byte rows, so the array's stride is its std430 size (48 B).
-layout(set = 0, binding = BINDING_TRIANGLE_LIST, std140) uniform TriangleList {
-    GpuTriangle list_triangles[MAX_LIST_TRIANGLES];
-};
+// The block itself, list_triangles[], is declared in bvh_bindings.glsl, where the layout probe
+// sees it too (tests/layout.rs).
 
 // The closest hit among the list's triangles below tmax, in list order (a later triangle wins
 // only if strictly closer). A ray with an empty interval, or a NaN anywhere (ray_pre gives it

@@ -42,7 +42,8 @@ void main() {
             + lights[0].position.x + emitters[0].v0.x + frame.cam_origin.x + rays[0].tmin
             + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
             + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x)
-            + tangents[0].t0.x + mirrors[0].v0.x + float(mirror_planes[0].count) + casters[0].radius;
+            + tangents[0].t0.x + mirrors[0].v0.x + float(mirror_planes[0].count) + casters[0].radius
+            + list_triangles[0].v0.x;
     accum[0] = vec4(s);
     hits[0].t = s;
     uvec2 w = uvec2(s);
