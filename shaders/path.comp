@@ -25,6 +25,7 @@
 #include "bsdf.glsl"
 #include "lights.glsl"
 #include "caster_guide.glsl"
+#include "light_connection.glsl"
 #ifdef MIRRORS
 #include "mirror_probe.glsl"
 #include "mirror_light.glsl"
@@ -35,8 +36,11 @@ layout(local_size_x_id = SPEC_WORKGROUP_X, local_size_y_id = SPEC_WORKGROUP_Y) i
 
 
 // Light sampling at surface s: one light, one point on it, weighted against BSDF sampling
-// (mixed with the guide g, caster_guide.glsl). `rays` counts the shadow ray if one is traced.
-vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout Sampler smp, inout uint rays) {
+// (mixed with the guide g, caster_guide.glsl) and, where `arrive_area` > 0 (the area density
+// with which the path's last bounce reached s, from a vertex that made a light-vertex
+// connection), against that connection (light_connection.glsl). `rays` counts the shadow ray
+// if one is traced.
+vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout Sampler smp, inout uint rays, float arrive_area) {
     vec2 u = sampler_2d(smp);
     LightSample ls;
     if (!sample_light(s.p, origin, u, ls)) return vec3(0.0);
@@ -50,7 +54,16 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout 
     rays++;
     if (occluded(origin, ls.span, 0.0, ls.span_tmax)) return vec3(0.0);
     // Delta lights (pdf 0) cannot be hit by BSDF sampling: their weight is 1.
-    float w = ls.pdf > 0.0 ? power_heuristic(ls.pdf, bsdf_pdf) : 1.0;
+    float w = 1.0;
+    if (ls.pdf > 0.0) {
+        // The connection's density for this light point and s, as a solid angle at s like the
+        // other two: its area density over arrive_area's, (pA (cos_q / pi) cos_s / d^2) /
+        // arrive_area, times light sampling's ls.pdf = pA d^2 / cos_q.
+        float connect_pdf = 0.0;
+        if (LIGHT_CONNECTIONS && arrive_area > 0.0 && ls.pa > 0.0) connect_pdf = (ls.pa / PI) * dot(s.ng, ls.wi) / arrive_area;
+        // (Without connections the two-way form: the same arithmetic, the same bytes as before.)
+        w = LIGHT_CONNECTIONS ? power_heuristic3(ls.pdf, bsdf_pdf, connect_pdf) : power_heuristic(ls.pdf, bsdf_pdf);
+    }
     return fr * wi.z * ls.li_over_pdf * w;
 }
 
@@ -80,6 +93,14 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
     float mirror_pdf = 0.0;
     float mirror_dist = 0.0;
 #endif
+    LightVertex lv;
+    lv.valid = false;
+    if (LIGHT_CONNECTIONS && nee) lv = light_vertex(smp, rays);
+    // For the light-vertex connections' MIS weights: the area density with which the current
+    // ray's vertex was reached, where the vertex before it made a connection (else 0), and the
+    // geometric cosine of the current ray there.
+    float bounce_arrive = 0.0;
+    float bounce_cos = 0.0;
     for (uint depth = 0u;; depth++) {
         rays++;
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
@@ -100,7 +121,14 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         if (HAS_EMITTERS && s.front && (m.flags & MATERIAL_EMISSIVE) != 0u) {
             float w = 1.0;
             // dir is unit, so h.t is the distance.
-            if (nee && !prev_delta) w = power_heuristic(prev_pdf, emitter_hit_pdf(s, m, dir, h.t));
+            if (nee && !prev_delta) {
+                float light_pdf = emitter_hit_pdf(s, m, dir, h.t);
+                // The connection from the bounce's vertex, as a solid angle there like the
+                // others: (cos_q / pi) cos / t^2 over bounce_arrive, times the light's density.
+                float connect_pdf = 0.0;
+                if (LIGHT_CONNECTIONS && bounce_arrive > 0.0) connect_pdf = light_pdf * (dot(s.ng, -dir) / PI) * bounce_cos / (h.t * h.t * bounce_arrive);
+                w = LIGHT_CONNECTIONS ? power_heuristic3(prev_pdf, light_pdf, connect_pdf) : power_heuristic(prev_pdf, light_pdf);
+            }
 #ifdef MIRRORS
             // Light sampling through that mirror would have aimed at this point from the image
             // of the bounce's point: the whole path's length, this cosine.
@@ -127,8 +155,14 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
 #else
         Guide g = guide_none();
 #endif
+        // The area density with which the last bounce reached s, if the vertex it left made a
+        // connection: a surface vertex (depth >= 1) bouncing by a non-delta lobe.
+        float arrive = 0.0;
+        if (LIGHT_CONNECTIONS && depth >= 1u && !prev_delta) arrive = prev_pdf * abs(dot(s.ng, dir)) / (h.t * h.t);
         if (nee && has_smooth_lobes(l)) {
-            result += throughput * next_event(s, l, f, wo, g, up, smp, rays);
+            result += throughput * next_event(s, l, f, wo, g, up, smp, rays, arrive);
+            // The path x ... s -> y1 -> y0 is segments depth + 2 and depth + 3.
+            if (LIGHT_CONNECTIONS && lv.valid && depth + 2u < params.max_depth) result += throughput * connect_light_vertex(lv, s, l, f, wo, g, up, rays);
 #ifdef MIRRORS
             // Its path x -> mirror -> light is segments depth + 2 and depth + 3.
             if (params.mirror_count > 0u && depth + 2u < params.max_depth) result += throughput * light_through_mirror(s, l, f, wo, g, up, smp, rays);
@@ -149,6 +183,10 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         mirror_pdf = planar && !prev_delta ? prev_pdf * l.p_spec : 0.0;
         mirror_dist = h.t;
 #endif
+        if (LIGHT_CONNECTIONS) {
+            bounce_arrive = arrive;
+            bounce_cos = abs(dot(s.ng, wi));
+        }
         prev_pdf = bs.pdf;
         prev_delta = bs.delta;
         origin = crosses ? offset_ray(s.p, -s.ng, frame.scene_scale) : up;

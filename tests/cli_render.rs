@@ -49,7 +49,7 @@ fn path_tracer_flags_select_it_or_are_an_error_under_whitted() {
     let out = file(&dir, "a.exr");
     let scene = repo(LAB_CORNELL);
     // Under an explicit --integrator whitted every path-tracer flag is refused by name.
-    for flags in [&["--resume", "x.ckpt"][..], &["--time", "1"], &["--checkpoint", "c.ckpt"], &["--target-relmse", "0.1"], &["--sampler", "independent"], &["--adaptive"], &["--no-nee"]] {
+    for flags in [&["--resume", "x.ckpt"][..], &["--time", "1"], &["--checkpoint", "c.ckpt"], &["--target-relmse", "0.1"], &["--sampler", "independent"], &["--adaptive"], &["--no-nee"], &["--connections", "on"]] {
         let mut args = vec!["render", scene.as_str(), "-o", out.as_str(), "--integrator", "whitted"];
         args.extend_from_slice(flags);
         fails(&vkrt(&args), &format!("{} needs --integrator path", flags[0]));
@@ -271,6 +271,11 @@ fn resume_continues_a_run_from_its_checkpoint_alone() {
     fails(&vkrt(&["render", "--resume", &ckpt, "--fov", "20"]), "camera differs");
     fails(&vkrt(&["render", "--resume", &ckpt, "--sampler", "independent"]), "sampler differs: sobol");
     fails(&vkrt(&["render", "--resume", &ckpt, "--sampler", "zsobol"]), "sampler differs: sobol");
+    // The Lambertian box lit by its lamp made light-vertex connections (the default, auto):
+    // recorded, and a resumed run may not change the estimator.
+    assert_eq!(c.settings.nee, vkrt::gpu_abi::constants::NEE_WITH_CONNECTIONS);
+    let err = fails(&vkrt(&["render", "--resume", &ckpt, "--connections", "off"]), "light sampling differs");
+    assert!(err.contains("with light-vertex connections"), "{err}");
     // One checkpoint becomes its image; an unknown output kind is an error.
     let merged = file(&dir, "merged.exr");
     ok(&vkrt(&["merge", &ckpt, "-o", &merged]));

@@ -524,6 +524,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.verbose {
         // The path tracer's batches grow on cheap scenes (integrator::path::batch): this shows how far.
         eprintln!("{} submissions to the device; pipeline creation {:.3} s of the render time", stats.submissions, stats.pipeline_seconds);
+        if integrator == IntegratorKind::Path {
+            eprintln!("light-vertex connections {} (--connections)", if stats.light_connections { "on" } else { "off" });
+        }
         if stats.estimates > 0 {
             eprintln!("{} error estimates (read-back and pass over the sums) took {:.3} s of it", stats.estimates, stats.estimate_seconds);
         }

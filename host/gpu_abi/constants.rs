@@ -126,6 +126,15 @@ shared_constants! {
     /// How many triangles the triangle list holds (`GpuPush::list_count`): the tracing shaders
     /// unroll its loop for this count; 0 compiles it out.
     SPEC_LIST_TRIANGLES = 18;
+    /// Specialization constant id of the path tracer: 1 where each sample also traces one light
+    /// vertex and connects its surface vertices to it (`integrator::path::connections`); 0
+    /// compiles that code out, and the samples are those of a run without it.
+    SPEC_LIGHT_CONNECTIONS = 19;
+    /// The path tracer's estimator as `PathParams::nee` and checkpoints record it: BSDF sampling
+    /// only (`--no-nee`), next-event estimation with MIS, or that and light-vertex connections.
+    NEE_OFF = 0;
+    NEE_ON = 1;
+    NEE_WITH_CONNECTIONS = 2;
 
     /// A leaf packs (first triangle << LEAF_COUNT_BITS) | count into one u32; 0 count = interior.
     LEAF_COUNT_BITS = 8;

@@ -61,4 +61,6 @@ pub struct RenderStats {
     pub estimate_seconds: f64,
     /// The render stopped early because `Hooks::interrupt` was raised (Ctrl-C, SIGTERM).
     pub interrupted: bool,
+    /// Path tracer: light-vertex connections were on (`path::connections`).
+    pub light_connections: bool,
 }

@@ -51,6 +51,7 @@ struct LightSample {
     float pdf;
     vec3 span;
     float span_tmax;
+    float pa;
 };
 
 // Samples a light as seen from p (geometric normal ng on the side being lit, ray origin
@@ -61,6 +62,7 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
     ls.pdf = 0.0;
     ls.span = vec3(0.0);
     ls.span_tmax = 0.0;
+    ls.pa = 0.0;
     if (params.pick_count == 0u) return false;
     float pmf;
     uint j = pick_light(u.x, pmf);
@@ -76,7 +78,8 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
         float cos_light = dot(en, -ls.wi);
         // Emitters emit from their front face only.
         if (cos_light <= 0.0 || d2 <= 0.0) return false;
-        ls.pdf = emitter_area_pdf(em.radiance) * d2 / cos_light;
+        ls.pa = emitter_area_pdf(em.radiance);
+        ls.pdf = ls.pa * d2 / cos_light;
         ls.li_over_pdf = emission_at(em.prim, b.y, b.z, em.radiance) / ls.pdf;
         // Between the two offset points, so that neither surface shadows itself.
         ls.span = offset_ray(q, en, frame.scene_scale) - origin;

@@ -76,6 +76,15 @@ float power_heuristic(float a, float b) {
     return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
 }
 
+// The power heuristic's weight of the first of three strategies. From the ratios, not the
+// squares: area densities of a large scene (1e-20 and less) would underflow when squared.
+float power_heuristic3(float a, float b, float c) {
+    if (!(a > 0.0)) return 0.0;
+    float rb = b / a;
+    float rc = c / a;
+    return 1.0 / (1.0 + rb * rb + rc * rc);
+}
+
 float mean3(vec3 v) {
     return (v.x + v.y + v.z) / 3.0;
 }

@@ -127,6 +127,17 @@ fn sampler_name(v: u32) -> String {
     super::SamplerKind::from_gpu_value(v).map_or(format!("unknown sampler {v}"), |k| k.name().to_string())
 }
 
+/// An estimator word (`NEE_*`) as the flags that choose it read.
+fn nee_name(v: u32) -> String {
+    use crate::gpu_abi::constants::{NEE_OFF, NEE_ON, NEE_WITH_CONNECTIONS};
+    match v {
+        NEE_OFF => "off (--no-nee)".into(),
+        NEE_ON => "on, without light-vertex connections (--connections off)".into(),
+        NEE_WITH_CONNECTIONS => "on, with light-vertex connections (--connections on)".into(),
+        _ => format!("unknown estimator {v}"),
+    }
+}
+
 /// A max depth as `--max-depth` reads.
 fn depth_name(v: u32) -> String {
     if v == crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED { "unbounded".into() } else { v.to_string() }
@@ -147,7 +158,7 @@ impl RunSettings {
             ("sampler", sampler_name(self.sampler), sampler_name(other.sampler)),
             ("sample rate", self.sample_rate.to_string(), other.sample_rate.to_string()),
             ("max depth", depth_name(self.max_depth), depth_name(other.max_depth)),
-            ("light sampling", if self.nee != 0 { "on" } else { "off (--no-nee)" }.into(), if other.nee != 0 { "on" } else { "off (--no-nee)" }.into()),
+            ("light sampling", nee_name(self.nee), nee_name(other.nee)),
             ("coherence", self.coherence.to_string(), other.coherence.to_string()),
             ("coherence block", self.coherence_block.to_string(), other.coherence_block.to_string()),
         ];
@@ -416,6 +427,9 @@ impl Checkpoint {
         let sample_rate = r.u32("sample_rate")?;
         let max_depth = r.u32("max_depth")?;
         let nee = r.u32("nee")?;
+        if nee > crate::gpu_abi::constants::NEE_WITH_CONNECTIONS {
+            bail!("field `nee` is {nee}: an estimator this vkrt does not know (0 to {})", crate::gpu_abi::constants::NEE_WITH_CONNECTIONS);
+        }
         // Version 1 predates the setting: its runs gave every pixel its own numbers.
         let coherence = if version == VERSION_BEFORE_COHERENCE { 1 } else { r.u32("coherence")? };
         // Before format 7 coherence groups were rows.

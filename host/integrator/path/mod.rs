@@ -8,6 +8,7 @@ pub mod adaptive;
 pub mod batch;
 pub mod checkpoint;
 pub mod coherence;
+pub mod connections;
 pub mod params;
 pub mod progress;
 pub mod render;
@@ -128,6 +129,8 @@ pub struct PathSettings {
     /// throw onto walls (caustics) is found by more than chance; default true (unbiased; false
     /// only to compare in tests and experiments).
     pub caster_guiding: bool,
+    /// Light-vertex connections ([`connections`]): auto (the default), on or off.
+    pub connections: connections::Connections,
     pub stop: Stop,
     /// The sample index this run starts at (0; a shard's first index, `super::shard`): its
     /// samples are `first_sample ..`, `stop.spp` of them.
@@ -163,6 +166,7 @@ impl Default for PathSettings {
             grow_batches: false,
             mirror_sampling: true,
             caster_guiding: true,
+            connections: connections::Connections::Auto,
             stop: Stop { spp: Some(16), ..Stop::default() },
             first_sample: 0,
         }

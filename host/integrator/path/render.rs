@@ -46,6 +46,8 @@ struct PathGpu<'a> {
     _mirror_probe: Buffer<'a>,
     /// The pipeline is the mirror-probe variant: run its probe pass before sampling.
     probes_mirrors: bool,
+    /// Light-vertex connections on (`super::connections`).
+    connects: bool,
     pipeline: ComputePipeline<'a>,
     // Bound to the pipeline; kept alive with it.
     _frame: Buffer<'a>,
@@ -91,6 +93,7 @@ impl<'a> PathGpu<'a> {
         mirror_probe.clear()?;
         // Scenes with caustic casters (prepare::casters) run the variant that aims at them.
         let casters = settings.caster_guiding && scene.caster_count > 0;
+        let connects = settings.connections.resolve(&features, settings.nee, casters);
         let shader = match (probes_mirrors, casters) {
             (false, false) => Tracing::Path,
             (true, false) => Tracing::PathMirrors,
@@ -103,7 +106,7 @@ impl<'a> PathGpu<'a> {
             shader.spirv(scene.bvh.layout),
             &bindings,
             std::mem::size_of::<GpuPush>() as u32,
-            &[features.spec_constants(), scene.bvh.spec_constants().to_vec()].concat(),
+            &[features.spec_constants(), scene.bvh.spec_constants().to_vec(), vec![(SPEC_LIGHT_CONNECTIONS, connects as u32)]].concat(),
         )?;
         scene.bind(&pipeline)?;
         scene.bind_path_arrays(&pipeline)?;
@@ -121,7 +124,7 @@ impl<'a> PathGpu<'a> {
         for (binding, plane) in SUM_PLANES.iter().zip(&planes) {
             pipeline.bind(*binding, plane)?;
         }
-        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, pipeline, _frame: frame_buf, _params: params_buf })
+        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, connects, pipeline, _frame: frame_buf, _params: params_buf })
     }
 
     /// The sums as they stand, read into `acc` (its kind, uniform or per-pixel counts, and its
@@ -203,7 +206,7 @@ pub fn render(
     let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     // One unused block entry for a uniform run.
     let gpu = PathGpu::new(ctx, scene, settings, &acc, if settings.adaptive { grid.count() } else { 1 })?;
-    let mut stats = RenderStats { pipeline_seconds: gpu.pipeline.creation_seconds(), ..RenderStats::default() };
+    let mut stats = RenderStats { pipeline_seconds: gpu.pipeline.creation_seconds(), light_connections: gpu.connects, ..RenderStats::default() };
     let pixels = img.width as u64 * img.height as u64;
     // Adaptive runs use the size for their pilot only: then each block's rate decides.
     let mut sizer = if settings.grow_batches && !settings.adaptive {
