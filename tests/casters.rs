@@ -144,15 +144,7 @@ fn guiding_is_the_same_at_any_scale() {
     let ctx = common::gpu_context();
     let mut means = Vec::new();
     for s in [1e-3f32, 1.0, 1e3] {
-        let mut scene = base.clone();
-        for t in &mut scene.triangles {
-            for p in &mut t.p {
-                *p *= s;
-            }
-        }
-        scene.camera.eye *= s;
-        scene.camera.target *= s;
-        let gpu = common::upload(&ctx, &scene);
+        let gpu = common::upload(&ctx, &common::scaled(&base, s));
         assert_eq!(gpu.caster_count, 1, "scale {s}: the ball should be a caster");
         means.push(common::render_path_on(&ctx, &gpu, &settings(64, 1, true)).image().mean());
     }

@@ -117,15 +117,7 @@ fn connections_are_the_same_at_any_scale() {
     settings.connections = Connections::On;
     let mut means = Vec::new();
     for s in [1e-3f32, 1.0, 1e3] {
-        let mut scene = base.clone();
-        for t in &mut scene.triangles {
-            for p in &mut t.p {
-                *p *= s;
-            }
-        }
-        scene.camera.eye *= s;
-        scene.camera.target *= s;
-        let gpu = common::upload(&ctx, &scene);
+        let gpu = common::upload(&ctx, &common::scaled(&base, s));
         means.push(common::render_path_on(&ctx, &gpu, &settings).image().mean());
     }
     eprintln!("image means at scales 1e-3, 1, 1e3: {means:?}");

@@ -138,3 +138,17 @@ pub fn path_settings(width: u32, height: u32, spp: u64) -> vkrt::integrator::pat
     s.zsobol_log2 = zsobol_log2(Some(spp));
     s
 }
+
+/// `scene` scaled by `s` about the origin: every vertex and the camera's eye and target (the
+/// scale tests: a scale-free estimator renders the same image).
+pub fn scaled(scene: &vkrt::scene::Scene, s: f32) -> vkrt::scene::Scene {
+    let mut scene = scene.clone();
+    for t in &mut scene.triangles {
+        for p in &mut t.p {
+            *p *= s;
+        }
+    }
+    scene.camera.eye *= s;
+    scene.camera.target *= s;
+    scene
+}
