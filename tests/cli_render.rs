@@ -57,6 +57,9 @@ fn path_tracer_flags_select_it_or_are_an_error_under_whitted() {
     // Without --integrator they select the path tracer: a progressive run that reports spp.
     let err = ok(&vkrt(&["render", &repo(LAB_CORNELL), "-o", &out, "--width", "16", "--height", "16", "--time", "0.2"]));
     assert!(err.contains("--time selects the path tracer") && err.contains("spp"), "{err}");
+    // Connections asked for where there is no emissive triangle to start from: said, not silent.
+    let err = ok(&vkrt(&["render", &scene, "-o", &out, "--width", "8", "--height", "8", "--spp", "1", "--connections", "on"]));
+    assert!(err.contains("--connections on: no light-vertex connections here: the scene has no emissive triangles"), "{err}");
 }
 
 #[test]

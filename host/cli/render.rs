@@ -4,6 +4,7 @@
 //! beyond what the device and the machine can hold, an unwritable output. A resumed path-traced
 //! run takes its scene, size, camera and sampling settings from its checkpoint.
 
+use crate::integrator::path::connections::Connections;
 use super::args::{at_least_one, exposure, fov, non_negative, vec3, whole};
 use super::progress::{Progress, Status};
 use super::render_path::{self, PathArgs, PathRun};
@@ -499,6 +500,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 preview_every: args.path.preview_every,
                 shard,
             };
+            if run.settings.connections == Connections::On {
+                let s = &run.settings;
+                if let Some(why) = Connections::unavailable(&s.image.features(&gpu.info), s.nee, s.caster_guiding && gpu.caster_count > 0) {
+                    say.line(&format!("warning: --connections on: no light-vertex connections here: {why}"));
+                }
+            }
             let mut preview = |image: &Image| write_outputs(image);
             let out = render_path::render(&ctx, &gpu, &run, &mut progress, &mut preview, &|line| say.line(line))?;
             let interrupted = out.stats.interrupted.then_some(out.samples);

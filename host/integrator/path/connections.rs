@@ -40,13 +40,27 @@ impl Connections {
     /// Whether a run with light sampling `nee` on a scene using `features` connects;
     /// `aims_at_casters`: its bounces aim at caustic casters.
     pub fn resolve(self, features: &Features, nee: bool, aims_at_casters: bool) -> bool {
-        if !nee || aims_at_casters || !features.has(EMITTERS) {
+        if Self::unavailable(features, nee, aims_at_casters).is_some() {
             return false;
         }
         match self {
             Connections::On => true,
             Connections::Off => false,
             Connections::Auto => ![MIRROR, DIELECTRIC, GLOSSY, METALLIC_ROUGHNESS].iter().any(|&f| features.has(f)),
+        }
+    }
+
+    /// Why a run cannot connect whatever the mode (for the warning `--connections on` gets),
+    /// or None.
+    pub fn unavailable(features: &Features, nee: bool, aims_at_casters: bool) -> Option<&'static str> {
+        if !nee {
+            Some("light sampling is off (--no-nee)")
+        } else if !features.has(EMITTERS) {
+            Some("the scene has no emissive triangles to start light vertices from")
+        } else if aims_at_casters {
+            Some("its diffuse bounces aim at caustic casters, whose guide the connections' weights leave out")
+        } else {
+            None
         }
     }
 
