@@ -66,7 +66,9 @@ LightVertex light_vertex(inout Sampler smp, inout uint rays) {
     Lobes l = lobes_of(m);
     if (!has_smooth_lobes(l)) return lv;
     lv.pa = emitter_area_pdf(em.radiance);
-    lv.valid = lv.pa > 0.0;
+    lv.cos_in = abs(dot(s.ng, d));
+    // A grazing hit carries nothing and would divide by zero below.
+    lv.valid = lv.pa > 0.0 && lv.cos_in > 0.0;
     lv.p = s.p;
     lv.ng = s.ng;
     lv.f = onb_from(s.ns);
@@ -75,7 +77,6 @@ LightVertex light_vertex(inout Sampler smp, inout uint rays) {
     lv.beta = emission_at(em.prim, b.y, b.z, em.radiance) * (PI / lv.pa);
     lv.cos0 = dl.z;
     lv.dist2 = h.t * h.t;
-    lv.cos_in = abs(dot(s.ng, d));
     return lv;
 }
 
@@ -102,8 +103,8 @@ vec3 connect_light_vertex(LightVertex lv, Surface s, Lobes l, Onb f, vec3 wo, Gu
     // (pdf_x cos_y / d2) then light sampling (pA), or then y1's bounce (pdf_y cos0 / dist2).
     // As ratios: the densities themselves underflow in a large scene.
     float p_x = pdf_x * cos_y / d2;
-    float light_ratio = p_x * PI * (lv.dist2 / max(lv.cos0 * lv.cos_in, 1e-30));
-    float bounce_ratio = (p_x / lv.pa) * pdf_y * PI / max(lv.cos_in, 1e-30);
+    float light_ratio = p_x * PI * (lv.dist2 / (lv.cos0 * lv.cos_in));
+    float bounce_ratio = (p_x / lv.pa) * pdf_y * PI / lv.cos_in;
     float w_mis = 1.0 / (1.0 + light_ratio * light_ratio + bounce_ratio * bounce_ratio);
     if (!(w_mis > 0.0)) return vec3(0.0);
     rays++;
