@@ -28,9 +28,9 @@ pub enum Connections {
     /// were measured to pay for their rays.
     #[default]
     Auto,
-    /// Wherever there are emissive triangles to start from, light sampling is on and no
-    /// bounce is aimed at caustic casters (`PathSettings::caster_guiding`: the guide's density
-    /// at y1 is not in the connection's weights).
+    /// Wherever there are emissive triangles to start from and light sampling is on, except
+    /// in scenes whose diffuse bounces aim at caustic casters (curved mirror, glass or glossy
+    /// pieces): that guide's density is not in the connections' weights.
     On,
     /// Never: the plain path tracer with next-event estimation.
     Off,
