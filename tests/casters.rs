@@ -125,7 +125,7 @@ fn guided_bounces_converge_to_the_same_light_with_less_noise() {
 /// scenes no samples and changes no bytes.
 #[test]
 fn a_scene_without_casters_renders_the_same_bytes() {
-    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
+    let scene = common::cornell_measured();
     let ctx = common::gpu_context();
     let gpu = common::upload(&ctx, &scene);
     assert_eq!(gpu.caster_count, 0, "cornell-measured has no glossy, mirror or glass pieces");

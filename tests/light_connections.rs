@@ -16,14 +16,10 @@ use vkrt::output::read_image;
 
 const SPP: u64 = 16;
 
-fn cornell() -> vkrt::scene::Scene {
-    vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap()
-}
-
 #[test]
 fn connections_converge_to_the_reference_with_less_error_per_sample() {
     let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
-    let scene = cornell();
+    let scene = common::cornell_measured();
     // path_reference.rs's bound: twice 0.175 / spp of a correct path tracer, plus the
     // reference's noise.
     let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
@@ -53,7 +49,7 @@ fn connections_agree_with_the_plain_path_tracer_block_by_block() {
     // weight that did not sum to one over the three strategies shows as a bias where one of
     // them dominates: near the lamp, in corners). 32x32, 1024 spp each, every pixel its own
     // numbers.
-    let scene = cornell();
+    let scene = common::cornell_measured();
     let mut images = Vec::new();
     for mode in [Connections::On, Connections::Off] {
         let mut settings = common::path_settings(32, 32, 1024);
@@ -92,7 +88,7 @@ fn connections_agree_with_the_plain_path_tracer_block_by_block() {
 fn off_is_the_plain_path_tracer_and_auto_follows_the_materials() {
     // Off draws exactly the samples of a path tracer without the feature: the code is
     // compiled out, so scenes where auto turns it off render the same bytes as before it.
-    let scene = cornell();
+    let scene = common::cornell_measured();
     let mut settings = common::path_settings(24, 16, 4);
     settings.connections = Connections::Off;
     let off = common::render_path(&scene, &settings);
@@ -111,7 +107,7 @@ fn connections_are_the_same_at_any_scale() {
     // Their weights are ratios of area densities and their contribution G x Le pi / pA, all
     // scale-free: the box at 1e-3 and 1e3 times its size renders the same image (float
     // rounding aside; render_path_on also fails on any NaN or infinite sample).
-    let base = cornell();
+    let base = common::cornell_measured();
     let ctx = common::gpu_context();
     let mut settings = common::path_settings(32, 32, 64);
     settings.connections = Connections::On;

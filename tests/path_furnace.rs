@@ -175,7 +175,7 @@ fn light_sampling_and_bsdf_sampling_converge_to_the_same_image() {
     // The measured Cornell box (small light: BSDF sampling alone is noisy, so it gets more
     // samples). Tolerance: the relMSE between the two must be within 3x the sum of their own
     // error estimates (from the half-images) plus 1e-4, and the channel means within 1.5 %.
-    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
+    let scene = common::cornell_measured();
     let nee = common::render_path(&scene, &common::path_settings(48, 48, 64));
     let mut settings = common::path_settings(48, 48, 512);
     settings.nee = false;

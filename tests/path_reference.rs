@@ -15,14 +15,10 @@ use vkrt::output::read_image;
 
 const SPP: u64 = 16;
 
-fn cornell() -> vkrt::scene::Scene {
-    vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap()
-}
-
 #[test]
 fn cornell_converges_to_the_mitsuba_reference_with_every_sampler() {
     let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
-    let scene = cornell();
+    let scene = common::cornell_measured();
     let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
     for sampler in SamplerKind::ALL {
         let mut settings = common::path_settings(reference.width, reference.height, SPP);
@@ -83,7 +79,7 @@ fn coherent_sampling_meets_the_same_bound_rows_streak_and_scattered_groups_do_no
     use vkrt::integrator::path::coherence::coherent_pixel;
     let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
     let (w, h) = (reference.width, reference.height);
-    let scene = cornell();
+    let scene = common::cornell_measured();
     let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
     let means = reference.mean();
     let mut settings = common::path_settings(w, h, SPP);
@@ -184,7 +180,7 @@ fn group_mates_draw_the_same_numbers(sampler: SamplerKind) {
 
 #[test]
 fn same_seed_same_image_bit_for_bit() {
-    let scene = cornell();
+    let scene = common::cornell_measured();
     let mut settings = common::path_settings(64, 64, 4);
     settings.image.seed = 7;
     let a = common::render_path(&scene, &settings);
@@ -204,7 +200,7 @@ fn same_seed_same_image_bit_for_bit() {
 fn adaptive_sampling_meets_the_bound_with_less_error_than_uniform(coherence_block: u32) {
     const MEAN_SPP: u64 = 32;
     let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
-    let scene = cornell();
+    let scene = common::cornell_measured();
     let bound = 2.0 * 0.175 / MEAN_SPP as f64 + 1e-4;
     let means = reference.mean();
     let mut settings = common::path_settings(reference.width, reference.height, MEAN_SPP);

@@ -152,3 +152,9 @@ pub fn scaled(scene: &vkrt::scene::Scene, s: f32) -> vkrt::scene::Scene {
     scene.camera.target *= s;
     scene
 }
+
+/// The measured Cornell box (scenes/cornell-measured), the scene of the path tracer's
+/// reference images (tests/refs/cornell-256.exr).
+pub fn cornell_measured() -> vkrt::scene::Scene {
+    vkrt::scene::load_scene(&repo_path("scenes/cornell-measured/cornell.yaml")).unwrap()
+}
