@@ -4,7 +4,7 @@
 //! beyond what the device and the machine can hold, an unwritable output. A resumed path-traced
 //! run takes its scene, size, camera and sampling settings from its checkpoint.
 
-use crate::integrator::path::connections::Connections;
+use crate::integrator::path::connections::{self, Connections};
 use super::args::{at_least_one, exposure, fov, non_negative, vec3, whole};
 use super::progress::{Progress, Status};
 use super::render_path::{self, PathArgs, PathRun};
@@ -501,8 +501,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 shard,
             };
             if run.settings.connections == Connections::On {
-                let s = &run.settings;
-                if let Some(why) = Connections::unavailable(&s.image.features(&gpu.info), s.nee, s.caster_guiding && gpu.caster_count > 0) {
+                if let Some(why) = connections::unavailable(&run.settings, &gpu) {
                     say.line(&format!("warning: --connections on: no light-vertex connections here: {why}"));
                 }
             }

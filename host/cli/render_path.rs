@@ -309,9 +309,7 @@ pub fn render(
             None => hash_inputs(&run.scene.stats.inputs)?,
         };
         let identity = Identity::Inputs { inputs, sky: run.sky.clone(), camera: run.camera };
-        let s = &run.settings;
-        let connects = s.connections.resolve(&s.image.features(&gpu.info), s.nee, s.caster_guiding && gpu.caster_count > 0);
-        Some(run_settings(run, identity, connects))
+        Some(run_settings(run, identity, path::connections::connects(&run.settings, gpu)))
     } else {
         None
     };

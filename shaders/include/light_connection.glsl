@@ -105,7 +105,7 @@ vec3 connect_light_vertex(LightVertex lv, Surface s, Lobes l, Onb f, vec3 wo, Gu
     float p_x = pdf_x * cos_y / d2;
     float light_ratio = p_x * PI * (lv.dist2 / (lv.cos0 * lv.cos_in));
     float bounce_ratio = (p_x / lv.pa) * pdf_y * PI / lv.cos_in;
-    float w_mis = 1.0 / (1.0 + light_ratio * light_ratio + bounce_ratio * bounce_ratio);
+    float w_mis = power_heuristic3(1.0, light_ratio, bounce_ratio);
     if (!(w_mis > 0.0)) return vec3(0.0);
     rays++;
     vec3 target = offset_ray(lv.p, lv.ng, frame.scene_scale);

@@ -18,8 +18,9 @@
 //! or makes badly (light reflected by a mirror, caustics, a glossy y1 seen from a random x), and
 //! there it cost more time than it saved (relMSE x seconds 1.2-1.6x). Hence the default.
 
+use super::PathSettings;
 use crate::prepare::features::{DIELECTRIC, EMITTERS, GLOSSY, METALLIC_ROUGHNESS, MIRROR};
-use crate::prepare::Features;
+use crate::prepare::{Features, GpuScene};
 
 /// Whether the path tracer makes light-vertex connections (`--connections`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -64,14 +65,17 @@ impl Connections {
         }
     }
 
-    /// `--connections`' spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            Connections::Auto => "auto",
-            Connections::On => "on",
-            Connections::Off => "off",
-        }
-    }
+}
+
+/// Whether `settings`' render of `scene` connects: what its pipeline is specialised for and
+/// its checkpoints record.
+pub fn connects(settings: &PathSettings, scene: &GpuScene) -> bool {
+    settings.connections.resolve(&settings.image.features(&scene.info), settings.nee, settings.aims_at_casters(scene))
+}
+
+/// Why `settings`' render of `scene` cannot connect whatever its mode, or None.
+pub fn unavailable(settings: &PathSettings, scene: &GpuScene) -> Option<&'static str> {
+    Connections::unavailable(&settings.image.features(&scene.info), settings.nee, settings.aims_at_casters(scene))
 }
 
 #[cfg(test)]

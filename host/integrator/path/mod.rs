@@ -151,6 +151,14 @@ pub fn zsobol_log2(spp: Option<u64>) -> u32 {
 /// test scenes; samples past it start new sets, each its own blue-noise set.
 pub const DEFAULT_ZSOBOL_LOG2: u32 = 8;
 
+impl PathSettings {
+    /// Whether this run's diffuse bounces aim at caustic casters in `scene` (the `CASTERS`
+    /// shader variants): guiding is on and the scene has some.
+    pub fn aims_at_casters(&self, scene: &crate::prepare::GpuScene) -> bool {
+        self.caster_guiding && scene.caster_count > 0
+    }
+}
+
 impl Default for PathSettings {
     fn default() -> Self {
         Self {

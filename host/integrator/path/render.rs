@@ -92,8 +92,8 @@ impl<'a> PathGpu<'a> {
         let mirror_probe = Buffer::new(ctx, "mirror probe", probe_bytes, storage, MemoryLocation::Device)?;
         mirror_probe.clear()?;
         // Scenes with caustic casters (prepare::casters) run the variant that aims at them.
-        let casters = settings.caster_guiding && scene.caster_count > 0;
-        let connects = settings.connections.resolve(&features, settings.nee, casters);
+        let casters = settings.aims_at_casters(scene);
+        let connects = super::connections::connects(settings, scene);
         let shader = match (probes_mirrors, casters) {
             (false, false) => Tracing::Path,
             (true, false) => Tracing::PathMirrors,
