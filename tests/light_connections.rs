@@ -12,17 +12,14 @@ mod common;
 
 use vkrt::integrator::path::connections::Connections;
 use vkrt::output::compare::compare;
-use vkrt::output::read_image;
 
 const SPP: u64 = 16;
 
 #[test]
 fn connections_converge_to_the_reference_with_less_error_per_sample() {
-    let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
+    let reference = common::cornell_reference();
     let scene = common::cornell_measured();
-    // path_reference.rs's bound: twice 0.175 / spp of a correct path tracer, plus the
-    // reference's noise.
-    let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
+    let bound = common::reference_relmse_bound(SPP);
     let mut relmse = Vec::new();
     for mode in [Connections::On, Connections::Off] {
         let mut settings = common::path_settings(reference.width, reference.height, SPP);
@@ -30,11 +27,11 @@ fn connections_converge_to_the_reference_with_less_error_per_sample() {
         let image = common::render_path(&scene, &settings).image();
         let c = compare(&image, &reference).unwrap();
         let means = reference.mean();
-        eprintln!("connections {}: relMSE {:.3e}, mean diff {:?}", mode.name(), c.relmse, c.mean_diff);
-        assert!(c.relmse <= bound, "connections {}: relMSE {:.4e} > {bound:.4e}", mode.name(), c.relmse);
+        eprintln!("connections {:?}: relMSE {:.3e}, mean diff {:?}", mode, c.relmse, c.mean_diff);
+        assert!(c.relmse <= bound, "connections {:?}: relMSE {:.4e} > {bound:.4e}", mode, c.relmse);
         for k in 0..3 {
             let rel = c.mean_diff[k] / means[k];
-            assert!(rel.abs() <= 0.01, "connections {}: channel {k} mean off by {:.3} %", mode.name(), rel * 100.0);
+            assert!(rel.abs() <= 0.01, "connections {:?}: channel {k} mean off by {:.3} %", mode, rel * 100.0);
         }
         relmse.push(c.relmse);
     }

@@ -51,7 +51,7 @@ fn converges_to_the_mitsuba_reference() {
     let image = render(&scene(0.0), &env, reference.width, SPP, true).image();
     let c = compare(&image, &reference).unwrap();
     let means = reference.mean();
-    let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
+    let bound = common::reference_relmse_bound(SPP);
     eprintln!("envmap: relMSE {:.3e} (bound {bound:.3e}), mean diff {:?} of {:?}", c.relmse, c.mean_diff, means);
     if c.relmse > bound || (0..3).any(|k| c.mean_diff[k].abs() > 0.01 * means[k]) {
         vkrt::output::write_image(&common::scratch_dir("path_envmap").join("envmap.exr"), &image).unwrap();

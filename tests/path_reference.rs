@@ -11,15 +11,14 @@ mod common;
 
 use vkrt::integrator::path::SamplerKind;
 use vkrt::output::compare::compare;
-use vkrt::output::read_image;
 
 const SPP: u64 = 16;
 
 #[test]
 fn cornell_converges_to_the_mitsuba_reference_with_every_sampler() {
-    let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
+    let reference = common::cornell_reference();
     let scene = common::cornell_measured();
-    let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
+    let bound = common::reference_relmse_bound(SPP);
     for sampler in SamplerKind::ALL {
         let mut settings = common::path_settings(reference.width, reference.height, SPP);
         settings.sampler = sampler;
@@ -77,10 +76,10 @@ fn neighbour_pairs(w: u32, h: u32, same: &dyn Fn((u32, u32), (u32, u32)) -> bool
 #[test]
 fn coherent_sampling_meets_the_same_bound_rows_streak_and_scattered_groups_do_not() {
     use vkrt::integrator::path::coherence::coherent_pixel;
-    let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
+    let reference = common::cornell_reference();
     let (w, h) = (reference.width, reference.height);
     let scene = common::cornell_measured();
-    let bound = 2.0 * 0.175 / SPP as f64 + 1e-4;
+    let bound = common::reference_relmse_bound(SPP);
     let means = reference.mean();
     let mut settings = common::path_settings(w, h, SPP);
     settings.coherence = 1;
@@ -199,7 +198,7 @@ fn same_seed_same_image_bit_for_bit() {
 /// 16 x 16 coherence squares the numbers are printed below.
 fn adaptive_sampling_meets_the_bound_with_less_error_than_uniform(coherence_block: u32) {
     const MEAN_SPP: u64 = 32;
-    let reference = read_image(&common::repo_path("tests/refs/cornell-256.exr")).unwrap();
+    let reference = common::cornell_reference();
     let scene = common::cornell_measured();
     let bound = 2.0 * 0.175 / MEAN_SPP as f64 + 1e-4;
     let means = reference.mean();

@@ -158,3 +158,16 @@ pub fn scaled(scene: &vkrt::scene::Scene, s: f32) -> vkrt::scene::Scene {
 pub fn cornell_measured() -> vkrt::scene::Scene {
     vkrt::scene::load_scene(&repo_path("scenes/cornell-measured/cornell.yaml")).unwrap()
 }
+
+/// The independent reference of the measured Cornell box (tests/refs/cornell-256.exr: Mitsuba 3,
+/// 4096 spp, 256²).
+pub fn cornell_reference() -> vkrt::integrator::Image {
+    vkrt::output::read_image(&repo_path("tests/refs/cornell-256.exr")).unwrap()
+}
+
+/// The relMSE a correct path tracer with next-event estimation stays under at `spp` against an
+/// independent reference: ../shared/refs/README.md measures about 0.175 / spp on the Cornell
+/// box; allowed twice that plus 1e-4 (the reference's own noise, 4.3e-5 for cornell-256.exr).
+pub fn reference_relmse_bound(spp: u64) -> f64 {
+    2.0 * 0.175 / spp as f64 + 1e-4
+}
