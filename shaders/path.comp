@@ -52,7 +52,7 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout 
     if (all(equal(fr, vec3(0.0)))) return vec3(0.0);
     bsdf_pdf = guide_mix(g, bsdf_pdf, ls.wi);
     rays++;
-    if (occluded(origin, ls.span, 0.0, ls.span_tmax)) return vec3(0.0);
+    if (occluded(origin, ls.span, 0.0, ls.span_tmax, ends_in_scene(ls))) return vec3(0.0);
     // Delta lights (pdf 0) cannot be hit by BSDF sampling: their weight is 1.
     float w = 1.0;
     if (ls.pdf > 0.0) {

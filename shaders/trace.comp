@@ -19,7 +19,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.ray_count) return;
     GpuRay ray = rays[i];
-    Hit h = trace_scene(ray.origin, ray.direction, ray.tmin, ray.tmax, push.any_hit != 0u);
+    Hit h = trace_scene(ray.origin, ray.direction, ray.tmin, ray.tmax, push.any_hit != 0u, false);
     GpuHit out_hit;
     out_hit.t = h.t;
     out_hit.prim = h.prim;

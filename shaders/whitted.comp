@@ -135,7 +135,8 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
             span = target - origin;
             tmax = 1.0;
         }
-        if (occluded(origin, span, 0.0, tmax)) continue;
+        // Where finite, it ends at a point light or an emitter's point: points of the scene.
+        if (occluded(origin, span, 0.0, tmax, !HAS_DIRECTIONAL || !isinf(tmax))) continue;
         result += blinn_phong(m, s, view, l, e);
     }
     return result;

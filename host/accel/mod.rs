@@ -15,6 +15,7 @@ pub mod parent_link;
 pub mod threaded;
 pub mod triangle_list;
 pub mod wide;
+pub mod walls;
 
 pub use kinds::{LayoutInfo, LayoutKind, LAYOUTS};
 
@@ -98,10 +99,15 @@ impl FlatBvh {
     /// this layout's walk up to the list's hit (an any-hit query walks only if the list missed).
     /// Same hit, same counters.
     pub fn trace(&self, ray: &GpuRay, any_hit: bool) -> GpuHit {
+        self.trace_skipping(ray, any_hit, 0)
+    }
+    /// The same with the list's triangles in `walls` left out: `trace_scene` with `between`
+    /// set, for a shadow ray between two points of the scene (`walls::walls`).
+    pub fn trace_skipping(&self, ray: &GpuRay, any_hit: bool, walls: u32) -> GpuHit {
         if self.list().is_empty() {
             return self.nodes.trace(&self.triangles, ray, any_hit);
         }
-        let listed = triangle_list::trace(self.list(), ray);
+        let listed = triangle_list::trace(self.list(), ray, walls);
         if any_hit && listed.prim != PRIM_NONE {
             return listed;
         }

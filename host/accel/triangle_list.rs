@@ -44,15 +44,19 @@ pub fn choose(boxes: &[Aabb]) -> Vec<u32> {
 /// leaf-order array) in order, keeping the closest hit below `ray.tmax`; the hit's `prim` is
 /// the triangle's, and `tris_tested` counts every test. A ray with an empty interval or a NaN
 /// anywhere tests nothing. Unlike a leaf, an any-hit query tests them all: the shader's
-/// unrolled loop has no early exit.
-pub fn trace(list: &[GpuTriangle], ray: &GpuRay) -> GpuHit {
+/// unrolled loop has no early exit. Triangles whose bit is set in `skip` are left out (the
+/// walls, for a ray between two points of the scene: `super::walls`).
+pub fn trace(list: &[GpuTriangle], ray: &GpuRay, skip: u32) -> GpuHit {
     let r = RayPre::new(ray);
     let mut hit = miss();
     let mut tmax = ray.tmax;
     if !(r.tmin < tmax) {
         return hit;
     }
-    for tri in list {
+    for (i, tri) in list.iter().enumerate() {
+        if skip >> i & 1 != 0 {
+            continue;
+        }
         hit.tris_tested += 1;
         if let Some(h) = intersect_triangle(&r, tri.v0.into(), tri.v1.into(), tri.v2.into(), tmax) {
             tmax = h.t;
@@ -102,9 +106,11 @@ mod tests {
         let tri = |z: f32, prim: u32| GpuTriangle { v0: [-1.0, -1.0, z], prim, v1: [1.0, -1.0, z], _pad0: 0, v2: [0.0, 1.0, z], _pad1: 0 };
         let list = [tri(3.0, 7), tri(2.0, 8), tri(4.0, 9)];
         let ray = GpuRay { origin: [0.0, 0.0, 0.0], tmin: 0.0, direction: [0.0, 0.0, 1.0], tmax: f32::INFINITY };
-        let hit = trace(&list, &ray);
+        let hit = trace(&list, &ray, 0);
         assert_eq!((hit.prim, hit.t, hit.tris_tested), (8, 2.0, 3));
         let short = GpuRay { tmax: 1.5, ..ray };
-        assert_eq!(trace(&list, &short).prim, crate::gpu_abi::constants::PRIM_NONE);
+        assert_eq!(trace(&list, &short, 0).prim, crate::gpu_abi::constants::PRIM_NONE);
+        // Skipping the closest leaves the next: the skip mask is by list position.
+        assert_eq!(trace(&list, &ray, 0b010).prim, 7);
     }
 }

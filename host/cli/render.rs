@@ -615,6 +615,8 @@ fn report(
     let name = integrator.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
     eprintln!("shader variant: {name} {} ({how}): {}", gpu.bvh.layout.name(), features.variant_name());
     eprint!("{}", features.report());
+    // The list's walls (accel::walls): shadow rays skip them.
+    eprintln!("triangle list: {} triangles, {} of them walls that shadow rays skip", gpu.bvh.list_count, gpu.list_walls.count_ones());
     if integrator == IntegratorKind::Path {
         // What the path tracer samples beyond lights and BSDFs (prepare::mirrors, prepare::casters).
         eprintln!("planar mirror planes light is sampled through: {}; caustic casters diffuse bounces are aimed at: {}", gpu.mirror_plane_count, gpu.caster_count);

@@ -126,6 +126,10 @@ shared_constants! {
     /// How many triangles the triangle list holds (`GpuPush::list_count`): the tracing shaders
     /// unroll its loop for this count; 0 compiles it out.
     SPEC_LIST_TRIANGLES = 18;
+    /// Which of the list's triangles are walls (bit i: the list's i-th; `accel::walls`): the
+    /// whole scene on one side of their plane, so the integrators' shadow rays, which run
+    /// between two points of the scene, skip them. 0 (batch queries) tests every one.
+    SPEC_LIST_WALLS = 20;
     /// Specialization constant id of the path tracer: 1 where each sample also traces one light
     /// vertex and connects its surface vertices to it (`integrator::path::connections`); 0
     /// compiles that code out, and the samples are those of a run without it.

@@ -48,7 +48,7 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
         Tracing::Whitted.spirv(scene.bvh.layout),
         &bindings,
         std::mem::size_of::<GpuPush>() as u32,
-        &[features.spec_constants(), scene.bvh.spec_constants().to_vec()].concat(),
+        &[features.spec_constants(), scene.trace_spec_constants()].concat(),
     )?;
     stats.pipeline_seconds = pipeline.creation_seconds();
     scene.bind(&pipeline)?;

@@ -72,9 +72,22 @@ impl<'a> GpuBvh<'a> {
     }
 }
 
+/// Which of the triangle list's triangles are walls (`accel::walls`, bit i for the list's i-th)
+/// in the scene of `a`: shadow rays end at surface points and at point lights' positions, so a
+/// wall must have those on its side too.
+pub fn list_walls(a: &SceneArrays, info: &SceneInfo) -> u32 {
+    let positions: Vec<glam::Vec3> = a.lights.iter().filter(|l| l.kind != LIGHT_DIRECTIONAL).map(|l| glam::Vec3::from(l.position)).collect();
+    let first = a.push.list_first as usize;
+    let listed = a.triangles.get(first..first + a.push.list_count as usize).unwrap_or(&[]);
+    crate::accel::walls::walls(listed, a.triangles, &positions, &info.bounds, info.scale)
+}
+
 /// A whole prepared scene on the device.
 pub struct GpuScene<'a> {
     pub bvh: GpuBvh<'a>,
+    /// Which of the triangle list's triangles are walls (`accel::walls`): the integrators'
+    /// shadow rays skip them (SPEC_LIST_WALLS). Decided at every upload, like the mirrors.
+    pub list_walls: u32,
     pub shading: TexelArray<'a>,
     pub materials: TexelArray<'a>,
     pub lights: TexelArray<'a>,
@@ -133,6 +146,7 @@ impl<'a> GpuScene<'a> {
         let casters = super::casters::caustic_casters(a.triangles, a.shading, &materials, a.emitters, !a.lights.is_empty(), info.radius);
         Ok(Self {
             bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?,
+            list_walls: list_walls(a, info),
             shading: TexelArray::with_data(ctx, "shading data", a.shading, Rgba32Uint)?,
             materials: TexelArray::with_data(ctx, "materials", &materials, Rgba32Uint)?,
             lights: TexelArray::with_data(ctx, "lights", a.lights, Rgba32Uint)?,
@@ -185,6 +199,12 @@ impl<'a> GpuScene<'a> {
         let kept = if dropped.is_empty() { self.info.ambient } else { glam::Vec3::ZERO };
         self.ambient = kept + env.mean_radiance;
         Ok(())
+    }
+
+    /// The specialization constants every integrator's pipeline needs for this scene's BVH:
+    /// the triangle list's size and its walls.
+    pub fn trace_spec_constants(&self) -> Vec<(u32, u32)> {
+        [&self.bvh.spec_constants()[..], &[(SPEC_LIST_WALLS, self.list_walls)]].concat()
     }
 
     /// The scene's shading arrays by binding number (texel buffers, like the BVH's).

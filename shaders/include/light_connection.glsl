@@ -109,7 +109,7 @@ vec3 connect_light_vertex(LightVertex lv, Surface s, Lobes l, Onb f, vec3 wo, Gu
     if (!(w_mis > 0.0)) return vec3(0.0);
     rays++;
     vec3 target = offset_ray(lv.p, lv.ng, frame.scene_scale);
-    if (occluded(origin, target - origin, 0.0, 1.0)) return vec3(0.0);
+    if (occluded(origin, target - origin, 0.0, 1.0, true)) return vec3(0.0);
     // f_x cos_x G f_y, with y1's cosines as the path tracer's light sampling there has them
     // (shading toward y0, geometric toward x; beta holds the geometric one toward y0): the
     // same measurement with shading normals as the other two strategies.

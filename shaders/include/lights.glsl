@@ -54,6 +54,14 @@ struct LightSample {
     float pa;
 };
 
+// Whether the sample's shadow ray ends at a point of the scene (an emitter's point, a point
+// light's position) rather than leaving it (a directional light, the environment map): if so
+// it skips the triangle list's walls (traverse.glsl). A constant where the scene has neither of
+// the distant kinds, so that the walls' tests leave the compiled shadow ray altogether.
+bool ends_in_scene(LightSample ls) {
+    return !(HAS_DIRECTIONAL || HAS_ENVMAP) || !isinf(ls.span_tmax);
+}
+
 // Samples a light as seen from p (geometric normal ng on the side being lit, ray origin
 // `origin`). Returns false if the light sample faces away or carries nothing.
 bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {

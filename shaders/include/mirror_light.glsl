@@ -99,7 +99,8 @@ vec3 light_through_mirror(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 orig
         vec3 span = first ? m_off - origin : (distant ? ls.wi : y - m_off);
         float reach = first || !distant ? 1.0 : 1.0 / 0.0;
         rays++;
-        if (occluded(from, span, 0.0, reach)) return vec3(0.0);
+        // The first ends on the mirror; the second where the light sample's ray would.
+        if (occluded(from, span, 0.0, reach, first || ends_in_scene(ls))) return vec3(0.0);
     }
     float pick = 1.0 / float(count);
     // BSDF sampling cannot reach a delta light (pdf 0) by way of a delta mirror: weight 1.

@@ -12,6 +12,9 @@
 #include "leaf.glsl"
 
 layout(constant_id = SPEC_LIST_TRIANGLES) const uint LIST_TRIANGLES = 0u;
+// Bit i: the list's i-th triangle is a wall, the whole scene on one side of its plane
+// (host/accel/walls.rs), which no segment between two points of the scene can cross.
+layout(constant_id = SPEC_LIST_WALLS) const uint LIST_WALLS = 0u;
 
 // The block itself, list_triangles[], is declared in bvh_bindings.glsl, where the layout probe
 // sees it too (tests/layout.rs).
@@ -19,12 +22,14 @@ layout(constant_id = SPEC_LIST_TRIANGLES) const uint LIST_TRIANGLES = 0u;
 // The closest hit among the list's triangles below tmax, in list order (a later triangle wins
 // only if strictly closer). A ray with an empty interval, or a NaN anywhere (ray_pre gives it
 // tmin = +inf), tests nothing, as it fails at a BVH's root. No early exit for any-hit queries:
-// the loop is unrolled, and its lanes run every test anyway.
-Hit trace_list(RayPre r, float tmax) {
+// the loop is unrolled, and its lanes run every test anyway. `between`: the ray runs between
+// two points of the scene (a shadow ray), so the walls are skipped; the unrolled loop's wall
+// bits are constants, so a call site whose `between` is constant keeps only its own tests.
+Hit trace_list(RayPre r, float tmax, bool between) {
     Hit hit = hit_none();
     if (r.tmin < tmax) {
         [[unroll]] for (uint i = 0u; i < LIST_TRIANGLES; i++) {
-            test_triangle(list_triangles[i], push.list_first + i, r, tmax, hit);
+            if (!(between && ((LIST_WALLS >> i) & 1u) != 0u)) test_triangle(list_triangles[i], push.list_first + i, r, tmax, hit);
         }
     }
     return hit;

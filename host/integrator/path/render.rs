@@ -106,7 +106,7 @@ impl<'a> PathGpu<'a> {
             shader.spirv(scene.bvh.layout),
             &bindings,
             std::mem::size_of::<GpuPush>() as u32,
-            &[features.spec_constants(), scene.bvh.spec_constants().to_vec(), vec![(SPEC_LIGHT_CONNECTIONS, connects as u32)]].concat(),
+            &[features.spec_constants(), scene.trace_spec_constants(), vec![(SPEC_LIGHT_CONNECTIONS, connects as u32)]].concat(),
         )?;
         scene.bind(&pipeline)?;
         scene.bind_path_arrays(&pipeline)?;
