@@ -361,6 +361,17 @@ fn specialised_and_all_features_shaders_agree() {
         cos_outer: 0.7,
     });
     scenes.push(("mirror, glass, glossy, spot and cone lights", special));
+    // Emitters, a glossy lobe and a mirror alone: the lean build with the mirror code
+    // (Box_ver_path itself runs the lean build without it).
+    let mut lean_mirror = load("scenes/lab/Box_ver_path/Box_ver_path.yaml");
+    let n = lean_mirror.materials.len() as u32;
+    lean_mirror.materials.push(Material { name: "mirror".into(), specular: Vec3::splat(0.9), illum: 3, ..Material::default() });
+    for (k, t) in lean_mirror.triangles.iter_mut().enumerate() {
+        if k % 4 == 1 && !lean_mirror.materials[t.material as usize].is_emissive() {
+            t.material = n;
+        }
+    }
+    scenes.push(("lab Box_ver_path with a mirror: lean", lean_mirror));
     // glTF materials: metallic-roughness (textured, and a smooth metal that Whitted mirrors),
     // an emission texture and a normal map with MikkTSpace tangents, on the textured shadow scene.
     let mut gltf = shadow_scene();
@@ -390,9 +401,15 @@ fn specialised_and_all_features_shaders_agree() {
     let env = EnvLight::new(&map, 0.5, 30.0);
     assert_specialised_matches_all_features("environment map", &lit, Some(&env));
     scenes.push(("environment map", lit));
-    // Every feature is on in at least one scene, so each one's removal is covered.
+    // Every feature is on in at least one scene, so each one's removal is covered; the lean
+    // builds (every feature but mirrors, glossy lobes and emitters compiled out) are compared
+    // with and without their mirror code.
+    use vkrt::prepare::features::{Features, MIRROR};
     for f in vkrt::prepare::features::ALL {
-        assert!(scenes.iter().any(|(_, s)| vkrt::prepare::features::Features::of(s).has(f)), "no scene uses {}", f.name);
+        assert!(scenes.iter().any(|(_, s)| Features::of(s).has(f)), "no scene uses {}", f.name);
+    }
+    for mirrors in [false, true] {
+        assert!(scenes.iter().any(|(_, s)| Features::of(s).lean() && Features::of(s).has(MIRROR) == mirrors), "no lean scene with mirrors {mirrors}");
     }
 }
 
@@ -415,6 +432,10 @@ fn a_diffuse_only_scene_turns_every_optional_feature_off() {
         assert!(!f.has(off), "{} should be off:\n{}", off.name, f.report());
     }
     assert!(f.has(POINT));
+    // A point light is beyond the lean build; the course's emitter-lit box is within it.
+    assert!(!f.lean());
+    assert!(Features::of(&load("scenes/lab/Box_ver_path/Box_ver_path.yaml")).lean());
+    assert!(!Features::all().lean());
 }
 
 /// Writes a one-quad OBJ whose material names `texture` as its map_Kd; returns the OBJ's path.

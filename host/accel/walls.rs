@@ -7,7 +7,7 @@
 //! boundary plane only at an end, which the shadow ray's interval leaves out: a wall never
 //! occludes one, and its test is wasted. In a Cornell box the ten wall triangles are the whole
 //! list, so every shadow ray tested ten triangles for nothing (docs/experiments/
-//! bounding-walls.md: cornell-measured 0.84x the render time, the same image bytes). Rays that
+//! bounding-walls.md: cornell-measured 0.865x the render time, the same image bytes). Rays that
 //! leave the scene (directional lights, the environment map) and batch queries of arbitrary
 //! rays still test every wall.
 

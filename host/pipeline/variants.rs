@@ -45,6 +45,14 @@ pub const SHADERS: &[Shader] = &[
     // pipeline creation (0.092 -> 0.12 s for a 16² 1-spp render, median of 6).
     Shader { name: "path_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "CASTERS"], per_layout: true, role: Role::Product },
     Shader { name: "path_mirrors_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS", "CASTERS"], per_layout: true, role: Role::Product },
+    // The four above, lean: every feature but mirrors, glossy lobes and emissive triangles
+    // compiled out (`prepare::Features::lean`; shaders/include/features.glsl), for scenes that
+    // use no other. Lavapipe parses the SPIR-V before specialization drops dead code: on the
+    // Cornell boxes pipeline creation 20-50 ms shorter (docs/experiments/lean-variants.md).
+    Shader { name: "path_lean", source: "path.comp", defines: &["LEAN"], per_layout: true, role: Role::Product },
+    Shader { name: "path_mirrors_lean", source: "path.comp", defines: &["LEAN", "MIRRORS"], per_layout: true, role: Role::Product },
+    Shader { name: "path_casters_lean", source: "path.comp", defines: &["LEAN", "CASTERS"], per_layout: true, role: Role::Product },
+    Shader { name: "path_mirrors_casters_lean", source: "path.comp", defines: &["LEAN", "MIRRORS", "CASTERS"], per_layout: true, role: Role::Product },
     // Batch ray queries see geometry only.
     Shader { name: "trace", source: "trace.comp", defines: &[], per_layout: true, role: Role::Product },
     // The textbook intersection tests, only to measure what the robust ones cost

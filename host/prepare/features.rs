@@ -32,6 +32,10 @@ pub const ALL: [Feature; 14] = [
     TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP, METALLIC_ROUGHNESS, NORMAL_MAP, CONE,
 ];
 
+/// The features the lean path tracer keeps as specialization constants; it compiles the rest
+/// out (shaders/include/features.glsl, `LEAN`).
+pub const LEAN_KEEPS: [Feature; 3] = [MIRROR, GLOSSY, EMITTERS];
+
 /// Which features a scene uses, each with the reason (for `--verbose`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Features {
@@ -101,6 +105,12 @@ impl Features {
             }
         }
         self
+    }
+
+    /// Whether every feature on is one the lean path tracer keeps ([`LEAN_KEEPS`]): then the
+    /// render runs the lean build, with the others compiled out (host/pipeline/variants.rs).
+    pub fn lean(&self) -> bool {
+        self.entries.iter().all(|(f, on, _)| !*on || LEAN_KEEPS.contains(f))
     }
 
     pub fn has(&self, f: Feature) -> bool {

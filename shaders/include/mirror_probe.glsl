@@ -39,8 +39,10 @@ const float MIRROR_PROBE_P_SPEC = 0.25;
 // `rays` counts the rays traced. The camera ray and the reflection share one walk call site
 // (each call site is a whole inlined walk in the compiled shader).
 uint mirror_probe_value(uvec2 pixel, inout uint rays) {
-    // A sky or an environment map lights the escaping reflection.
-    if (!HAS_MIRROR || HAS_SKY || env_present()) return 0u;
+    // A sky or an environment map lights the escaping reflection. (A black sky is no sky: the
+    // sky feature is off for one, and the all-features shader must choose as the specialised.)
+    bool sky = HAS_SKY && (frame.sky_texture != TEXTURE_NONE || max3(frame.sky_color) > 0.0);
+    if (!HAS_MIRROR || sky || env_present()) return 0u;
     vec3 origin = frame.cam_origin;
     vec3 dir = camera_ray_direction(frame, vec2(pixel) + 0.5);
     for (uint segment = 0u; segment < 2u; segment++) {

@@ -17,7 +17,7 @@ use crate::gpu_abi::GpuPush;
 use crate::integrator::frame::{frame_for, INTEGRATOR_BINDINGS};
 use crate::integrator::tiles::{bind_all, dispatch_samples};
 use crate::integrator::RenderStats;
-use crate::pipeline::shaders::Tracing;
+use crate::pipeline::shaders::{PathShader, Tracing};
 use crate::pipeline::{BindingKind, ComputePipeline};
 use crate::prepare::GpuScene;
 use anyhow::{bail, Context as _, Result};
@@ -94,12 +94,7 @@ impl<'a> PathGpu<'a> {
         // Scenes with caustic casters (prepare::casters) run the variant that aims at them.
         let casters = settings.aims_at_casters(scene);
         let connects = super::connections::connects(settings, scene);
-        let shader = match (probes_mirrors, casters) {
-            (false, false) => Tracing::Path,
-            (true, false) => Tracing::PathMirrors,
-            (false, true) => Tracing::PathCasters,
-            (true, true) => Tracing::PathMirrorsCasters,
-        };
+        let shader = Tracing::Path(PathShader { mirrors: probes_mirrors, casters, lean: features.lean() });
         let pipeline = ComputePipeline::specialized(
             ctx,
             shader.name(),
