@@ -529,7 +529,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if args.verbose {
         // The path tracer's batches grow on cheap scenes (integrator::path::batch): this shows how far.
-        eprintln!("{} submissions to the device; pipeline creation {:.3} s of the render time", stats.submissions, stats.pipeline_seconds);
+        eprintln!("{} submissions to the device; pipeline creation {:.3} s of the render time (shader build {})", stats.submissions, stats.pipeline_seconds, stats.shader);
         if integrator == IntegratorKind::Path {
             eprintln!("light-vertex connections {} (--connections)", if stats.light_connections { "on" } else { "off" });
         }

@@ -63,4 +63,6 @@ pub struct RenderStats {
     pub interrupted: bool,
     /// Path tracer: light-vertex connections were on (`path::connections`).
     pub light_connections: bool,
+    /// The shader build the render ran (`pipeline::variants::SHADERS`, without the layout).
+    pub shader: &'static str,
 }

@@ -49,6 +49,7 @@ struct PathGpu<'a> {
     /// Light-vertex connections on (`super::connections`).
     connects: bool,
     pipeline: ComputePipeline<'a>,
+    shader: Tracing,
     // Bound to the pipeline; kept alive with it.
     _frame: Buffer<'a>,
     _params: Buffer<'a>,
@@ -119,7 +120,7 @@ impl<'a> PathGpu<'a> {
         for (binding, plane) in SUM_PLANES.iter().zip(&planes) {
             pipeline.bind(*binding, plane)?;
         }
-        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, connects, pipeline, _frame: frame_buf, _params: params_buf })
+        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, connects, pipeline, shader, _frame: frame_buf, _params: params_buf })
     }
 
     /// The sums as they stand, read into `acc` (its kind, uniform or per-pixel counts, and its
@@ -201,7 +202,7 @@ pub fn render(
     let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     // One unused block entry for a uniform run.
     let gpu = PathGpu::new(ctx, scene, settings, &acc, if settings.adaptive { grid.count() } else { 1 })?;
-    let mut stats = RenderStats { pipeline_seconds: gpu.pipeline.creation_seconds(), light_connections: gpu.connects, ..RenderStats::default() };
+    let mut stats = RenderStats { pipeline_seconds: gpu.pipeline.creation_seconds(), light_connections: gpu.connects, shader: gpu.shader.name(), ..RenderStats::default() };
     let pixels = img.width as u64 * img.height as u64;
     // Adaptive runs use the size for their pilot only: then each block's rate decides.
     let mut sizer = if settings.grow_batches && !settings.adaptive {
