@@ -119,9 +119,9 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
         } else {
             uint j = i - light_count;
             GpuEmitter em = load_emitter(j / WHITTED_EMITTER_SAMPLES);
-            vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
+            vec3 en = emitter_normal(em);
             vec3 b = EMITTER_SAMPLE_BARY[j % WHITTED_EMITTER_SAMPLES];
-            vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
+            vec3 q = emitter_point(em, b);
             vec3 to_light = q - s.p;
             float d2 = dot(to_light, to_light);
             l = to_light * inversesqrt(d2);

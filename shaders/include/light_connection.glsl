@@ -53,8 +53,8 @@ LightVertex light_vertex(inout Sampler smp, inout uint rays) {
     if (pmf <= 0.0 || j >= frame.emitter_count) return lv;
     GpuEmitter em = load_emitter(j);
     vec3 b = sample_triangle_bary(ue);
-    vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
-    vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
+    vec3 q = emitter_point(em, b);
+    vec3 en = emitter_normal(em);
     vec3 dl = sample_cosine_hemisphere(ud);
     if (dl.z <= 0.0) return lv;
     vec3 d = to_world(onb_from(en), dl);

@@ -78,8 +78,8 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
     if (HAS_EMITTERS && j < frame.emitter_count) {
         GpuEmitter em = load_emitter(j);
         vec3 b = sample_triangle_bary(u);
-        vec3 q = b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
-        vec3 en = normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
+        vec3 q = emitter_point(em, b);
+        vec3 en = emitter_normal(em);
         vec3 to_light = q - p;
         float d2 = dot(to_light, to_light);
         ls.wi = to_light * inversesqrt(d2);

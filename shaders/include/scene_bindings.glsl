@@ -72,6 +72,14 @@ GpuEmitter load_emitter(uint i) {
                       uintBitsToFloat(c.xyz), 0u, uintBitsToFloat(d.xyz), 0u);
 }
 
+// The point of emitter `em` at barycentrics b, and its unit normal: the side it emits from.
+vec3 emitter_point(GpuEmitter em, vec3 b) {
+    return b.x * em.v0 + b.y * em.v1 + b.z * em.v2;
+}
+vec3 emitter_normal(GpuEmitter em) {
+    return normalize(cross(em.v1 - em.v0, em.v2 - em.v0));
+}
+
 // 16 B: offset, width, height, pad.
 GpuTexture load_texture(uint i) {
     uvec4 a = texelFetch(texture_texels, int(i));
