@@ -13,7 +13,7 @@
 
 use crate::geom::Aabb;
 use crate::gpu_abi::GpuTriangle;
-use glam::{DVec3, Vec3};
+use glam::{BVec3, DVec3, Vec3};
 
 /// How far (times the scene's scale, its largest |coordinate|) a point may lie beyond a wall's
 /// plane and still count as behind it: the rounding of coplanar vertices (a quad's second
@@ -47,7 +47,7 @@ pub fn walls(list: &[GpuTriangle], triangles: &[GpuTriangle], points: &[Vec3], b
             }
             true
         };
-        let corners = (0..8).map(|c| Vec3::new(pick(c & 1, bounds.min.x, bounds.max.x), pick(c & 2, bounds.min.y, bounds.max.y), pick(c & 4, bounds.min.z, bounds.max.z)));
+        let corners = (0..8).map(|c| Vec3::select(BVec3::new(c & 1 != 0, c & 2 != 0, c & 4 != 0), bounds.max, bounds.min));
         let vertices = triangles.iter().flat_map(|t| [t.v0, t.v1, t.v2]).map(Vec3::from);
         // The box first; where it straddles the plane, the vertices decide.
         if on_one_side(&mut points.iter().copied().chain(corners)) || on_one_side(&mut points.iter().copied().chain(vertices)) {
@@ -55,14 +55,6 @@ pub fn walls(list: &[GpuTriangle], triangles: &[GpuTriangle], points: &[Vec3], b
         }
     }
     mask
-}
-
-fn pick(bit: usize, lo: f32, hi: f32) -> f32 {
-    if bit == 0 {
-        lo
-    } else {
-        hi
-    }
 }
 
 #[derive(Default)]

@@ -30,38 +30,29 @@ pub struct PathShader {
 impl Tracing {
     /// The SPIR-V of this shader built for `layout`.
     pub fn spirv(self, layout: LayoutKind) -> &'static [u8] {
-        let builds = match self {
-            Tracing::Whitted => &WHITTED,
-            Tracing::Path(p) => match (p.mirrors, p.casters, p.lean) {
-                (false, false, false) => &PATH,
-                (true, false, false) => &PATH_MIRRORS,
-                (false, true, false) => &PATH_CASTERS,
-                (true, true, false) => &PATH_MIRRORS_CASTERS,
-                (false, false, true) => &PATH_LEAN,
-                (true, false, true) => &PATH_MIRRORS_LEAN,
-                (false, true, true) => &PATH_CASTERS_LEAN,
-                (true, true, true) => &PATH_MIRRORS_CASTERS_LEAN,
-            },
-            Tracing::Trace => &TRACE,
-        };
-        builds[layout as usize]
+        self.builds().1[layout as usize]
     }
 
     /// The name of the shader in `super::variants::SHADERS`.
     pub fn name(self) -> &'static str {
+        self.builds().0
+    }
+
+    /// The name and the per-layout builds, from one table.
+    fn builds(self) -> (&'static str, &'static [&'static [u8]; LayoutKind::ALL.len()]) {
         match self {
-            Tracing::Whitted => "whitted",
+            Tracing::Whitted => ("whitted", &WHITTED),
             Tracing::Path(p) => match (p.mirrors, p.casters, p.lean) {
-                (false, false, false) => "path",
-                (true, false, false) => "path_mirrors",
-                (false, true, false) => "path_casters",
-                (true, true, false) => "path_mirrors_casters",
-                (false, false, true) => "path_lean",
-                (true, false, true) => "path_mirrors_lean",
-                (false, true, true) => "path_casters_lean",
-                (true, true, true) => "path_mirrors_casters_lean",
+                (false, false, false) => ("path", &PATH),
+                (true, false, false) => ("path_mirrors", &PATH_MIRRORS),
+                (false, true, false) => ("path_casters", &PATH_CASTERS),
+                (true, true, false) => ("path_mirrors_casters", &PATH_MIRRORS_CASTERS),
+                (false, false, true) => ("path_lean", &PATH_LEAN),
+                (true, false, true) => ("path_mirrors_lean", &PATH_MIRRORS_LEAN),
+                (false, true, true) => ("path_casters_lean", &PATH_CASTERS_LEAN),
+                (true, true, true) => ("path_mirrors_casters_lean", &PATH_MIRRORS_CASTERS_LEAN),
             },
-            Tracing::Trace => "trace",
+            Tracing::Trace => ("trace", &TRACE),
         }
     }
 }

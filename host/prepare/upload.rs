@@ -42,8 +42,7 @@ impl<'a> GpuBvh<'a> {
     pub fn upload_arrays(ctx: &'a Context, layout: LayoutKind, nodes: &[u8], triangles: &[GpuTriangle], push: GpuPush) -> Result<Self> {
         // The triangle list as its uniform block holds it: MAX_LIST_TRIANGLES entries, the
         // unused ones zero (the shader's loop reads only push.list_count of them).
-        let first = (push.list_first as usize).min(triangles.len());
-        let listed = &triangles[first..(first + push.list_count as usize).min(triangles.len())];
+        let listed = listed(triangles, &push);
         let mut block = vec![GpuTriangle::zeroed(); MAX_LIST_TRIANGLES as usize];
         block[..listed.len()].copy_from_slice(listed);
         Ok(Self {
@@ -72,14 +71,18 @@ impl<'a> GpuBvh<'a> {
     }
 }
 
+/// The triangle list within the leaf-order triangles, as `push` places it (clamped to them).
+fn listed<'t>(triangles: &'t [GpuTriangle], push: &GpuPush) -> &'t [GpuTriangle] {
+    let first = (push.list_first as usize).min(triangles.len());
+    &triangles[first..(first + push.list_count as usize).min(triangles.len())]
+}
+
 /// Which of the triangle list's triangles are walls (`accel::walls`, bit i for the list's i-th)
 /// in the scene of `a`: shadow rays end at surface points and at point lights' positions, so a
 /// wall must have those on its side too.
 pub fn list_walls(a: &SceneArrays, info: &SceneInfo) -> u32 {
     let positions: Vec<glam::Vec3> = a.lights.iter().filter(|l| l.kind != LIGHT_DIRECTIONAL).map(|l| glam::Vec3::from(l.position)).collect();
-    let first = a.push.list_first as usize;
-    let listed = a.triangles.get(first..first + a.push.list_count as usize).unwrap_or(&[]);
-    crate::accel::walls::walls(listed, a.triangles, &positions, &info.bounds, info.scale)
+    crate::accel::walls::walls(listed(a.triangles, &a.push), a.triangles, &positions, &info.bounds, info.scale)
 }
 
 /// A whole prepared scene on the device.

@@ -8,8 +8,9 @@
 //! ceiling, lit only by the floor and walls, held half of its 16-spp error). The three ways of
 //! making such a path (x's bounce then light sampling at y1; x's bounce then y1's bounce
 //! finding the light; the connection) are weighted by the power heuristic over their area
-//! densities (Veach & Guibas 1995), so the estimate stays unbiased (shaders/path.comp,
-//! `connect`, `next_event`; docs/experiments/light-connections.md).
+//! densities (Veach & Guibas 1995), so the estimate stays unbiased (`connect_light_vertex` in
+//! shaders/include/light_connection.glsl, `next_event` and the emitter hits in
+//! shaders/path.comp; docs/experiments/light-connections.md).
 //!
 //! It costs one closest-hit ray per sample and one shadow ray per camera vertex (1.3-1.8x the
 //! time), and pays where diffuse interreflection is most of the error: on cornell-measured and
@@ -64,7 +65,6 @@ impl Connections {
             None
         }
     }
-
 }
 
 /// Whether `settings`' render of `scene` connects: what its pipeline is specialised for and
