@@ -42,7 +42,8 @@ pub const SHADERS: &[Shader] = &[
     Shader { name: "path_mirrors", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS"], per_layout: true, role: Role::Product },
     // The same two with diffuse bounces aimed at caustic casters (caster_guide.glsl), for scenes
     // with casters (prepare::casters): in `path` that code cost every other scene ~25 ms of
-    // pipeline creation (0.092 -> 0.12 s for a 16² 1-spp render, median of 6).
+    // pipeline creation (0.092 -> 0.12 s for a 16² 1-spp render, median of 6). They never make
+    // light-vertex connections, so CASTERS also compiles that code out (light_connection.glsl).
     Shader { name: "path_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "CASTERS"], per_layout: true, role: Role::Product },
     Shader { name: "path_mirrors_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS", "CASTERS"], per_layout: true, role: Role::Product },
     // The four above, lean: every feature but mirrors, glossy lobes and emissive triangles

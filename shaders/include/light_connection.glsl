@@ -16,7 +16,16 @@
 #include "surface.glsl"
 #include "traverse.glsl"
 
+// A build that aims bounces at caustic casters never connects (the guide's density is not in
+// the connections' weights: integrator::path::connections, `unavailable`), so its code is
+// compiled out there: lavapipe parses all of the SPIR-V before specialization drops code, and
+// path_casters_lean shrank from 252 to 194 kB, its pipeline creation on CornellBox-Sphere from
+// ~0.115 to ~0.097 s (docs/experiments/lean-variants.md). The host's constant is then unused.
+#ifdef CASTERS
+const bool LIGHT_CONNECTIONS = false;
+#else
 layout(constant_id = SPEC_LIGHT_CONNECTIONS) const bool LIGHT_CONNECTIONS = true;
+#endif
 
 struct LightVertex {
     bool valid;
