@@ -532,6 +532,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!("{} submissions to the device; pipeline creation {:.3} s of the render time (shader build {})", stats.submissions, stats.pipeline_seconds, stats.shader);
         if integrator == IntegratorKind::Path {
             eprintln!("light-vertex connections {} (--connections)", if stats.light_connections { "on" } else { "off" });
+            eprintln!("{} rays traced ({:.2} M rays/s of the render time)", stats.rays, stats.rays as f64 / stats.seconds.max(1e-9) / 1e6);
         }
         if stats.estimates > 0 {
             eprintln!("{} error estimates (read-back and pass over the sums) took {:.3} s of it", stats.estimates, stats.estimate_seconds);

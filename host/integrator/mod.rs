@@ -65,4 +65,8 @@ pub struct RenderStats {
     pub light_connections: bool,
     /// The shader build the render ran (`pipeline::variants::SHADERS`, without the layout).
     pub shader: &'static str,
+    /// Path tracer: rays this run traced (closest-hit and shadow rays, the shader's per-pixel
+    /// counts summed); 0 for Whitted. A measure of a render's work that, unlike its time, does
+    /// not move with the machine's load.
+    pub rays: u64,
 }

@@ -325,5 +325,6 @@ pub fn render(
     }
     stats.nonfinite_samples = acc.nonfinite_samples();
     stats.seconds = start.elapsed().as_secs_f64();
+    stats.rays = gpu.rays_traced(pixels as usize)?;
     Ok((acc, stats))
 }
