@@ -141,3 +141,33 @@ fn a_run_counts_the_rays_it_traced_and_connections_add_theirs() {
     assert!(rays[0] >= samples, "fewer rays than camera rays: {}", rays[0]);
     assert!(rays[1] > rays[0] + samples, "connections added fewer than one ray per sample: {rays:?}");
 }
+
+#[test]
+fn a_mirror_scene_connects_when_asked() {
+    // The lean mirror build leaves the connections' code out (light_connection.glsl), so a
+    // mirror scene with connections on must run the full mirror build, and connect there; auto
+    // leaves them off in a scene with a mirror and runs the lean build.
+    use vkrt::scene::Material;
+    let mut scene = common::cornell_measured();
+    let mirror = scene.materials.len() as u32;
+    scene.materials.push(Material { name: "mirror".into(), specular: glam::Vec3::splat(0.9), illum: 3, ..Material::default() });
+    let lamp = |t: &vkrt::scene::Triangle| scene.materials[t.material as usize].is_emissive();
+    let blocks: Vec<usize> = (0..scene.triangles.len()).filter(|&k| k % 3 == 0 && !lamp(&scene.triangles[k])).collect();
+    for k in blocks {
+        scene.triangles[k].material = mirror;
+    }
+    let ctx = common::gpu_context();
+    let gpu = common::upload(&ctx, &scene);
+    let mut settings = common::path_settings(24, 16, 4);
+    let mut runs = Vec::new();
+    for mode in [Connections::Auto, Connections::On] {
+        settings.connections = mode;
+        let (acc, stats) = vkrt::integrator::path::render(&ctx, &gpu, &settings, None, &mut Default::default()).unwrap();
+        runs.push((acc, stats));
+    }
+    let (auto, on) = (&runs[0], &runs[1]);
+    assert!(!auto.1.light_connections && auto.1.shader == "path_mirrors_lean", "auto: {} {}", auto.1.light_connections, auto.1.shader);
+    assert!(on.1.light_connections && on.1.shader == "path_mirrors", "on: {} {}", on.1.light_connections, on.1.shader);
+    assert_ne!(auto.0.even, on.0.even, "connections on did not change the samples");
+    assert!(on.1.rays > auto.1.rays + 24 * 16 * 4, "connections on traced no light rays: {} against {}", on.1.rays, auto.1.rays);
+}

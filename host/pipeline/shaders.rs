@@ -23,7 +23,7 @@ pub struct PathShader {
     /// Diffuse bounces aimed at caustic casters (scenes with casters).
     pub casters: bool,
     /// Every feature but mirrors, glossy lobes and emissive triangles compiled out
-    /// (`prepare::Features::lean`).
+    /// (`prepare::Features::lean`); with `mirrors` or `casters`, light-vertex connections too.
     pub lean: bool,
 }
 

@@ -17,11 +17,13 @@
 #include "traverse.glsl"
 
 // A build that aims bounces at caustic casters never connects (the guide's density is not in
-// the connections' weights: integrator::path::connections, `unavailable`), so its code is
-// compiled out there: lavapipe parses all of the SPIR-V before specialization drops code, and
-// path_casters_lean shrank from 252 to 194 kB, its pipeline creation on CornellBox-Sphere from
-// ~0.115 to ~0.097 s (docs/experiments/lean-variants.md). The host's constant is then unused.
-#ifdef CASTERS
+// the connections' weights: integrator::path::connections, `unavailable`), and the host runs a
+// lean mirror build only where the scene does not connect (`--connections on` in a mirror scene
+// takes the full path_mirrors build), so their code is compiled out there: lavapipe parses all
+// of the SPIR-V before specialization drops code. path_casters_lean 252 -> 194 kB, pipeline
+// creation on CornellBox-Sphere ~0.115 -> ~0.097 s; path_mirrors_lean on CornellBox-Mirror
+// ~0.19 -> ~0.17 s (docs/experiments/lean-variants.md). The host's constant is then unused.
+#if defined(CASTERS) || (defined(MIRRORS) && defined(LEAN))
 const bool LIGHT_CONNECTIONS = false;
 #else
 layout(constant_id = SPEC_LIGHT_CONNECTIONS) const bool LIGHT_CONNECTIONS = true;

@@ -95,7 +95,10 @@ impl<'a> PathGpu<'a> {
         // Scenes with caustic casters (prepare::casters) run the variant that aims at them.
         let casters = settings.aims_at_casters(scene);
         let connects = super::connections::connects(settings, scene);
-        let shader = Tracing::Path(PathShader { mirrors: probes_mirrors, casters, lean: features.lean() });
+        // The lean mirror builds leave the connections' code out (light_connection.glsl): a
+        // mirror scene that connects (`--connections on`) runs the full build.
+        let lean = features.lean() && !(probes_mirrors && connects);
+        let shader = Tracing::Path(PathShader { mirrors: probes_mirrors, casters, lean });
         let pipeline = ComputePipeline::specialized(
             ctx,
             shader.name(),
