@@ -23,8 +23,18 @@ pub struct PathShader {
     /// Diffuse bounces aimed at caustic casters (scenes with casters).
     pub casters: bool,
     /// Every feature but mirrors, glossy lobes and emissive triangles compiled out
-    /// (`prepare::Features::lean`); with `mirrors` or `casters`, light-vertex connections too.
+    /// (`prepare::Features::lean`); with `mirrors`, light-vertex connections too
+    /// ([`PathShader::can_connect`]).
     pub lean: bool,
+}
+
+impl PathShader {
+    /// Whether this build has the light-vertex connections' code: the builds aiming at casters
+    /// (which never connect) and the lean mirror builds leave it out, by the same condition in
+    /// shaders/include/light_connection.glsl.
+    pub fn can_connect(self) -> bool {
+        !(self.casters || (self.mirrors && self.lean))
+    }
 }
 
 impl Tracing {

@@ -22,7 +22,8 @@
 // takes the full path_mirrors build), so their code is compiled out there: lavapipe parses all
 // of the SPIR-V before specialization drops code. path_casters_lean 252 -> 194 kB, pipeline
 // creation on CornellBox-Sphere ~0.115 -> ~0.097 s; path_mirrors_lean on CornellBox-Mirror
-// ~0.19 -> ~0.17 s (docs/experiments/lean-variants.md). The host's constant is then unused.
+// ~0.19 -> ~0.17 s (docs/experiments/lean-variants.md). The host's constant is then unused;
+// its twin of this condition is pipeline::shaders::PathShader::can_connect.
 #if defined(CASTERS) || (defined(MIRRORS) && defined(LEAN))
 const bool LIGHT_CONNECTIONS = false;
 #else

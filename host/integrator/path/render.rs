@@ -95,10 +95,14 @@ impl<'a> PathGpu<'a> {
         // Scenes with caustic casters (prepare::casters) run the variant that aims at them.
         let casters = settings.aims_at_casters(scene);
         let connects = super::connections::connects(settings, scene);
-        // The lean mirror builds leave the connections' code out (light_connection.glsl): a
-        // mirror scene that connects (`--connections on`) runs the full build.
-        let lean = features.lean() && !(probes_mirrors && connects);
-        let shader = Tracing::Path(PathShader { mirrors: probes_mirrors, casters, lean });
+        // A lean build without the connections' code gives way to the full one where the scene
+        // connects (a mirror scene with `--connections on`); casters builds never connect.
+        let mut path = PathShader { mirrors: probes_mirrors, casters, lean: features.lean() };
+        if connects && !path.can_connect() {
+            path.lean = false;
+        }
+        debug_assert!(!connects || path.can_connect(), "{path:?} cannot connect");
+        let shader = Tracing::Path(path);
         let pipeline = ComputePipeline::specialized(
             ctx,
             shader.name(),
