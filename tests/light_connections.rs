@@ -147,15 +147,7 @@ fn a_mirror_scene_connects_when_asked() {
     // The lean mirror build leaves the connections' code out (light_connection.glsl), so a
     // mirror scene with connections on must run the full mirror build, and connect there; auto
     // leaves them off in a scene with a mirror and runs the lean build.
-    use vkrt::scene::Material;
-    let mut scene = common::cornell_measured();
-    let mirror = scene.materials.len() as u32;
-    scene.materials.push(Material { name: "mirror".into(), specular: glam::Vec3::splat(0.9), illum: 3, ..Material::default() });
-    let lamp = |t: &vkrt::scene::Triangle| scene.materials[t.material as usize].is_emissive();
-    let blocks: Vec<usize> = (0..scene.triangles.len()).filter(|&k| k % 3 == 0 && !lamp(&scene.triangles[k])).collect();
-    for k in blocks {
-        scene.triangles[k].material = mirror;
-    }
+    let scene = common::with_mirrors(common::cornell_measured(), 3, 0);
     let ctx = common::gpu_context();
     let gpu = common::upload(&ctx, &scene);
     let mut settings = common::path_settings(24, 16, 4);

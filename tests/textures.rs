@@ -363,14 +363,7 @@ fn specialised_and_all_features_shaders_agree() {
     scenes.push(("mirror, glass, glossy, spot and cone lights", special));
     // Emitters, a glossy lobe and a mirror alone: the lean build with the mirror code
     // (Box_ver_path itself runs the lean build without it).
-    let mut lean_mirror = load("scenes/lab/Box_ver_path/Box_ver_path.yaml");
-    let n = lean_mirror.materials.len() as u32;
-    lean_mirror.materials.push(Material { name: "mirror".into(), specular: Vec3::splat(0.9), illum: 3, ..Material::default() });
-    for (k, t) in lean_mirror.triangles.iter_mut().enumerate() {
-        if k % 4 == 1 && !lean_mirror.materials[t.material as usize].is_emissive() {
-            t.material = n;
-        }
-    }
+    let lean_mirror = common::with_mirrors(load("scenes/lab/Box_ver_path/Box_ver_path.yaml"), 4, 1);
     scenes.push(("lab Box_ver_path with a mirror: lean", lean_mirror));
     // glTF materials: metallic-roughness (textured, and a smooth metal that Whitted mirrors),
     // an emission texture and a normal map with MikkTSpace tangents, on the textured shadow scene.

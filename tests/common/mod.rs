@@ -159,6 +159,19 @@ pub fn cornell_measured() -> vkrt::scene::Scene {
     vkrt::scene::load_scene(&repo_path("scenes/cornell-measured/cornell.yaml")).unwrap()
 }
 
+/// `scene` with a 0.9 mirror (illum 3) on its non-emissive triangles k with k % every == phase:
+/// a mirror scene made from any other (the mirror builds and the mirror probe run on it).
+pub fn with_mirrors(mut scene: vkrt::scene::Scene, every: usize, phase: usize) -> vkrt::scene::Scene {
+    let mirror = scene.materials.len() as u32;
+    scene.materials.push(vkrt::scene::Material { name: "mirror".into(), specular: glam::Vec3::splat(0.9), illum: 3, ..Default::default() });
+    for (k, t) in scene.triangles.iter_mut().enumerate() {
+        if k % every == phase && !scene.materials[t.material as usize].is_emissive() {
+            t.material = mirror;
+        }
+    }
+    scene
+}
+
 /// The independent reference of the measured Cornell box (tests/refs/cornell-256.exr: Mitsuba 3,
 /// 4096 spp, 256²).
 pub fn cornell_reference() -> vkrt::integrator::Image {
