@@ -1,6 +1,7 @@
 #version 460
 // Progressive unidirectional path tracing (Kajiya 1986) with next-event estimation and
-// multiple importance sampling by the power heuristic (Veach & Guibas 1995), Russian roulette
+// multiple importance sampling (Veach & Guibas 1995; the power heuristic for two strategies, the
+// balance heuristic for light-vertex connections' three), Russian roulette
 // from params.rr_depth. One invocation per pixel of a tile; each dispatch adds
 // push.sample_count samples to the running sums (even- and odd-indexed samples apart, in fixed
 // point: exact and the same in any order), so a render is any number of short dispatches and
@@ -62,7 +63,7 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout 
         float connect_pdf = 0.0;
         if (LIGHT_CONNECTIONS && arrive_area > 0.0 && ls.pa > 0.0) connect_pdf = (ls.pa / PI) * dot(s.ng, ls.wi) / arrive_area;
         // (Without connections the two-way form: the same arithmetic, the same bytes as before.)
-        w = LIGHT_CONNECTIONS ? power_heuristic3(ls.pdf, bsdf_pdf, connect_pdf) : power_heuristic(ls.pdf, bsdf_pdf);
+        w = LIGHT_CONNECTIONS ? balance_heuristic3(ls.pdf, bsdf_pdf, connect_pdf) : power_heuristic(ls.pdf, bsdf_pdf);
     }
     return fr * wi.z * ls.li_over_pdf * w;
 }
@@ -127,7 +128,7 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
                 // others: (cos_q / pi) cos / t^2 over bounce_arrive, times the light's density.
                 float connect_pdf = 0.0;
                 if (LIGHT_CONNECTIONS && bounce_arrive > 0.0) connect_pdf = light_pdf * (dot(s.ng, -dir) / PI) * bounce_cos / (h.t * h.t * bounce_arrive);
-                w = LIGHT_CONNECTIONS ? power_heuristic3(prev_pdf, light_pdf, connect_pdf) : power_heuristic(prev_pdf, light_pdf);
+                w = LIGHT_CONNECTIONS ? balance_heuristic3(prev_pdf, light_pdf, connect_pdf) : power_heuristic(prev_pdf, light_pdf);
             }
 #ifdef MIRRORS
             // Light sampling through that mirror would have aimed at this point from the image

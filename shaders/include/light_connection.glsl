@@ -3,8 +3,9 @@
 // its cosine-distributed ray hits, and every surface vertex x of the camera path is joined to
 // y1 by a shadow ray: bidirectional path tracing's s = 2 strategy (Veach 1997, chapter 10).
 // The path x -> y1 -> y0 can also come from x's bounce followed by light sampling at y1 or by
-// y1's own bounce finding the light; the three are weighted by the power heuristic over their
-// area densities (Veach & Guibas 1995), here and in path.comp's light sampling and emitter hits.
+// y1's own bounce finding the light; the three are weighted by the balance heuristic over their
+// area densities (Veach & Guibas 1995; sampling.glsl's balance_heuristic3 says why not the power
+// heuristic), here and in path.comp's light sampling and emitter hits.
 #ifndef VKRT_LIGHT_CONNECTION_GLSL
 #define VKRT_LIGHT_CONNECTION_GLSL
 #include "bsdf.glsl"
@@ -117,7 +118,7 @@ vec3 connect_light_vertex(LightVertex lv, Surface s, Lobes l, Onb f, vec3 wo, Gu
     float p_x = pdf_x * cos_y / d2;
     float light_ratio = p_x * PI * (lv.dist2 / (lv.cos0 * lv.cos_in));
     float bounce_ratio = (p_x / lv.pa) * pdf_y * PI / lv.cos_in;
-    float w_mis = power_heuristic3(1.0, light_ratio, bounce_ratio);
+    float w_mis = balance_heuristic3(1.0, light_ratio, bounce_ratio);
     if (!(w_mis > 0.0)) return vec3(0.0);
     rays++;
     vec3 target = offset_ray(lv.p, lv.ng, frame.scene_scale);
