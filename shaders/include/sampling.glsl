@@ -81,8 +81,9 @@ float power_heuristic(float a, float b) {
 // the power heuristic that weighs two strategies above: with the same rays, the balance
 // heuristic gave cornell-measured 4-6 % less relMSE and ~1 % less HDR-FLIP at 16, 64 and 256
 // spp (CornellBox-Original: level), as pbrt's bidirectional path tracer also weighs its
-// connections (docs/experiments/light-connections.md, "Which heuristic"). From the ratios:
-// area densities of a large scene (1e-20 and less) can underflow in products.
+// connections (docs/experiments/light-connections.md, "Which heuristic"). Only the ratios b / a
+// and c / a count, so a caller may pass them with a = 1: connect_light_vertex does, because the
+// area densities themselves (products of 1e-20 and less in a large scene) underflow.
 float balance_heuristic3(float a, float b, float c) {
     if (!(a > 0.0)) return 0.0;
     return 1.0 / (1.0 + b / a + c / a);
