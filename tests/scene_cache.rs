@@ -31,8 +31,11 @@ fn scene_copy(dir: &Path) -> PathBuf {
     dir.join("cornell.yaml")
 }
 
+/// What a cache folder holds besides its `shaders` folder (compiled shaders, tests/shader_cache.rs).
 fn entries(cache: &Path) -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(cache).map(|d| d.filter_map(|e| e.ok()).map(|e| e.path()).collect()).unwrap_or_default();
+    let mut v: Vec<PathBuf> = std::fs::read_dir(cache)
+        .map(|d| d.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.file_name() != Some(std::ffi::OsStr::new("shaders"))).collect())
+        .unwrap_or_default();
     v.sort();
     v
 }

@@ -10,8 +10,18 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
+/// vkrt at lavapipe's vector width `width`, with a Mesa shader cache of that width's own:
+/// llvmpipe's cache keys do not hold the width, and code compiled at one width was found under
+/// another's key (shader objects against pipelines, docs/experiments/shader-binaries.md), which
+/// would crash or hang the suite's other tests.
 fn vkrt(width: &str, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_vkrt")).env("LP_NATIVE_VECTOR_WIDTH", width).args(args).output().expect("run vkrt")
+    let mesa_cache = common::scratch_dir("subgroups").join(format!("mesa-{width}"));
+    Command::new(env!("CARGO_BIN_EXE_vkrt"))
+        .env("LP_NATIVE_VECTOR_WIDTH", width)
+        .env("MESA_SHADER_CACHE_DIR", mesa_cache)
+        .args(args)
+        .output()
+        .expect("run vkrt")
 }
 
 /// The LP_NATIVE_VECTOR_WIDTH values to compare with lavapipe's 8-wide default, with the

@@ -56,10 +56,27 @@ pub struct DeviceArgs {
 }
 
 impl DeviceArgs {
-    /// A Vulkan context on the chosen device (validation as `VKRT_VALIDATION` says).
+    /// A Vulkan context on the chosen device (validation as `VKRT_VALIDATION` says), keeping
+    /// compiled shaders in the user's cache folder ([`user_shader_cache`]).
     pub fn context(&self) -> Result<Context> {
-        Context::new(&ContextOptions { device: self.device.clone(), ..ContextOptions::from_env() })
+        self.context_with_shader_cache(user_shader_cache())
     }
+
+    /// The same, keeping compiled shaders in `shader_cache` (None: nowhere).
+    pub fn context_with_shader_cache(&self, shader_cache: Option<std::path::PathBuf>) -> Result<Context> {
+        Context::new(&ContextOptions { device: self.device.clone(), shader_cache, ..ContextOptions::from_env() })
+    }
+}
+
+/// Compiled shaders' folder under a cache folder (the prepared scenes' files sit beside it).
+pub fn shader_cache_in(cache_dir: &std::path::Path) -> std::path::PathBuf {
+    cache_dir.join("shaders")
+}
+
+/// The shader cache in the user's cache folder (`$XDG_CACHE_HOME/vkrt/shaders`, else
+/// `~/.cache/vkrt/shaders`), or None when neither variable is set.
+pub fn user_shader_cache() -> Option<std::path::PathBuf> {
+    crate::prepare::cache::Cache::default_for_user().map(|c| shader_cache_in(&c.dir))
 }
 
 pub fn run(cli: Cli) -> Result<()> {

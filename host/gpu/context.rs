@@ -23,7 +23,7 @@ pub enum Validation {
 }
 
 /// How to create a [`Context`].
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct ContextOptions {
     /// Device index or a case-insensitive part of its name; `None` picks the default
     /// (a discrete GPU if present, else the best other device, lavapipe on a GPU-less machine).
@@ -33,10 +33,22 @@ pub struct ContextOptions {
     /// `staged` (a discrete GPU without resizable BAR: every write and read through staging
     /// copies) or `mapped-writes` (one with it: writes in place, reads through staging).
     pub memory: Option<String>,
+    /// Use compute shader objects where the device has them (super::shader_objects) and the
+    /// validation layers are off; false (`VKRT_SHADER_OBJECTS=0`): pipelines everywhere.
+    pub shader_objects: bool,
+    /// Where compiled shaders are kept between runs (with shader objects only); None: nowhere.
+    pub shader_cache: Option<std::path::PathBuf>,
+}
+
+impl Default for ContextOptions {
+    fn default() -> Self {
+        Self { device: None, validation: None, memory: None, shader_objects: true, shader_cache: None }
+    }
 }
 
 impl ContextOptions {
-    /// Options from the environment: `VKRT_DEVICE` and `VKRT_VALIDATION` (0/1).
+    /// Options from the environment: `VKRT_DEVICE`, `VKRT_VALIDATION` (0/1), `VKRT_MEMORY` and
+    /// `VKRT_SHADER_OBJECTS` (0: pipelines only). No shader cache.
     pub fn from_env() -> Self {
         let device = std::env::var("VKRT_DEVICE").ok().filter(|s| !s.is_empty());
         let validation = match std::env::var("VKRT_VALIDATION").as_deref() {
@@ -45,7 +57,8 @@ impl ContextOptions {
             _ => None,
         };
         let memory = std::env::var("VKRT_MEMORY").ok().filter(|s| !s.is_empty());
-        Self { device, validation, memory }
+        let shader_objects = !matches!(std::env::var("VKRT_SHADER_OBJECTS").as_deref(), Ok("0") | Ok("off") | Ok("false"));
+        Self { device, validation, memory, shader_objects, shader_cache: None }
     }
 }
 
@@ -75,6 +88,11 @@ pub struct Context {
     /// Bytes copied through staging so far ([`Context::staged_bytes`]).
     pub(super) staged_bytes: std::sync::atomic::AtomicU64,
     pub validation_enabled: bool,
+    /// Compute shader objects, when the device has them and the options allow
+    /// (`ContextOptions::shader_objects`, validation off); None: pipelines.
+    pub shader_objects: Option<super::shader_objects::ShaderObjects>,
+    /// `ContextOptions::shader_cache`.
+    pub shader_cache: Option<std::path::PathBuf>,
 }
 
 unsafe extern "system" fn debug_callback(
@@ -257,9 +275,15 @@ impl Context {
             ctx_debug = Some((du, messenger));
         }
         // From here on, failures must destroy what was created: build the rest in a closure.
-        let made = unsafe { Self::create_device(&instance, options) };
+        let made = unsafe { Self::create_device(&instance, options, options.shader_objects && !validation) };
         match made {
-            Ok((physical, device, queue, queue_family, command_pool, memory, info, allocator, submissions)) => Ok(Self {
+            Ok((physical, device, queue, queue_family, command_pool, memory, info, allocator, submissions, binary)) => Ok(Self {
+                shader_objects: binary.map(|(binary_uuid, binary_version)| super::shader_objects::ShaderObjects {
+                    fns: ash::ext::shader_object::Device::new(&instance, &device),
+                    binary_uuid,
+                    binary_version,
+                }),
+                shader_cache: options.shader_cache.clone(),
                 _entry: entry,
                 instance,
                 debug: ctx_debug,
@@ -295,7 +319,8 @@ impl Context {
     unsafe fn create_device(
         instance: &ash::Instance,
         options: &ContextOptions,
-    ) -> Result<(vk::PhysicalDevice, ash::Device, vk::Queue, u32, vk::CommandPool, vk::PhysicalDeviceMemoryProperties, DeviceInfo, Allocator, Submissions)>
+        shader_objects: bool,
+    ) -> Result<(vk::PhysicalDevice, ash::Device, vk::Queue, u32, vk::CommandPool, vk::PhysicalDeviceMemoryProperties, DeviceInfo, Allocator, Submissions, Option<([u8; vk::UUID_SIZE], u32)>)>
     {
         let pds = instance.enumerate_physical_devices().context("vkEnumeratePhysicalDevices")?;
         let infos: Vec<DeviceInfo> = pds.iter().enumerate().map(|(i, &pd)| DeviceInfo::query(instance, pd, i)).collect();
@@ -313,7 +338,13 @@ impl Context {
             .ok_or_else(|| anyhow!("device {} has no compute queue", info.name))?;
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
-        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        let binary = if shader_objects { super::shader_objects::supported(instance, physical) } else { None };
+        let extensions = super::shader_objects::EXTENSIONS.map(|n| n.as_ptr());
+        let mut feature = vk::PhysicalDeviceShaderObjectFeaturesEXT::default().shader_object(true);
+        let mut device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        if binary.is_some() {
+            device_info = device_info.enabled_extension_names(&extensions).push_next(&mut feature);
+        }
         let device = instance
             .create_device(physical, &device_info, None)
             .with_context(|| format!("vkCreateDevice on {}", info.name))?;
@@ -331,7 +362,7 @@ impl Context {
         let memory = instance.get_physical_device_memory_properties(physical);
         let rest = new_allocator(instance, &device, physical).and_then(|a| Ok((a, Submissions::new(&device, command_pool)?)));
         match rest {
-            Ok((allocator, submissions)) => Ok((physical, device, queue, queue_family, command_pool, memory, info, allocator, submissions)),
+            Ok((allocator, submissions)) => Ok((physical, device, queue, queue_family, command_pool, memory, info, allocator, submissions, binary)),
             Err(e) => {
                 // The pool's destruction frees its command buffers (Submissions::new destroys
                 // its own fences when it fails).

@@ -65,6 +65,8 @@ pub struct RenderStats {
     pub light_connections: bool,
     /// The shader build the render ran (`pipeline::variants::SHADERS`, without the layout).
     pub shader: &'static str,
+    /// Where its compiled form came from (`ComputePipeline::origin`, as words).
+    pub shader_origin: String,
     /// Path tracer: rays this run traced (closest-hit and shadow rays, the shader's per-pixel
     /// counts summed); 0 for Whitted. A measure of a render's work that, unlike its time, does
     /// not move with the machine's load.

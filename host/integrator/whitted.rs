@@ -51,6 +51,7 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
         &[features.spec_constants(), scene.trace_spec_constants()].concat(),
     )?;
     stats.pipeline_seconds = pipeline.creation_seconds();
+    stats.shader_origin = pipeline.origin().to_string();
     stats.shader = Tracing::Whitted.name();
     scene.bind(&pipeline)?;
     bind_all(&pipeline, &[(BINDING_FRAME, &frame_buf), (BINDING_ACCUM, &accum)])?;

@@ -1,9 +1,13 @@
 //! A compute pipeline with its descriptor sets of buffers and a push-constant block. It has
 //! [`IN_FLIGHT`] copies of its set, so double-buffered work binds each submission's buffers to
 //! a set of its own (`bind_in`, `record_dispatch_in`); `bind` points all of them at a buffer.
+//! Where the device has shader objects (gpu::shader_objects) its shader is one, made from the
+//! binary a run before kept in the shader cache when there is one (super::shader_cache), else
+//! from the SPIR-V; elsewhere it is a compute pipeline. Both run the same code.
 
 use crate::gpu::{Buffer, Context, TexelView, IN_FLIGHT};
 use crate::gpu_abi::constants::{SPEC_CORRECT_DIVISION, SPEC_WORKGROUP_1D, SPEC_WORKGROUP_X, SPEC_WORKGROUP_Y};
+use super::shader_cache::{self, ShaderKey};
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 
@@ -26,7 +30,31 @@ impl BindingKind {
     }
 }
 
-/// A compute pipeline and its descriptor sets; all freed on drop.
+/// Where a [`ComputePipeline`]'s compiled shader came from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ShaderOrigin {
+    /// A compute pipeline, compiled from the SPIR-V.
+    Pipeline,
+    /// A shader object compiled from the SPIR-V; `kept`: its binary was written to the shader
+    /// cache, or why not (None: no cache).
+    SpirvShaderObject { kept: Option<Result<(), String>> },
+    /// A shader object made from the binary in the shader cache.
+    CachedShaderObject,
+}
+
+impl std::fmt::Display for ShaderOrigin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ShaderOrigin::Pipeline => write!(f, "compute pipeline"),
+            ShaderOrigin::SpirvShaderObject { kept: None } => write!(f, "shader object from SPIR-V, no shader cache"),
+            ShaderOrigin::SpirvShaderObject { kept: Some(Ok(())) } => write!(f, "shader object from SPIR-V, kept in the shader cache"),
+            ShaderOrigin::SpirvShaderObject { kept: Some(Err(why)) } => write!(f, "shader object from SPIR-V, not kept: {why}"),
+            ShaderOrigin::CachedShaderObject => write!(f, "shader object from the shader cache"),
+        }
+    }
+}
+
+/// A compute pipeline (or shader object) and its descriptor sets; all freed on drop.
 pub struct ComputePipeline<'a> {
     ctx: &'a Context,
     name: String,
@@ -34,12 +62,15 @@ pub struct ComputePipeline<'a> {
     set_layout: vk::DescriptorSetLayout,
     layout: vk::PipelineLayout,
     pipeline: vk::Pipeline,
+    shader: vk::ShaderEXT,
+    origin: ShaderOrigin,
     pool: vk::DescriptorPool,
     sets: Vec<vk::DescriptorSet>,
     bindings: Vec<(u32, BindingKind)>,
     push_size: u32,
     /// Seconds `specialized` took: on lavapipe the SPIR-V-to-NIR work it redoes every run
-    /// (its disk cache keeps the compiled code, not that work), a fixed cost of each render.
+    /// (its disk cache keeps the compiled code, not that work) unless the shader comes from
+    /// the shader cache, a fixed cost of each render.
     creation_seconds: f64,
 }
 
@@ -83,6 +114,8 @@ impl<'a> ComputePipeline<'a> {
             set_layout: vk::DescriptorSetLayout::null(),
             layout: vk::PipelineLayout::null(),
             pipeline: vk::Pipeline::null(),
+            shader: vk::ShaderEXT::null(),
+            origin: ShaderOrigin::Pipeline,
             pool: vk::DescriptorPool::null(),
             sets: Vec::new(),
             bindings: bindings.to_vec(),
@@ -92,9 +125,6 @@ impl<'a> ComputePipeline<'a> {
         // SAFETY: each object is stored in `p` as soon as it exists, so Drop frees whatever was
         // made if a later step fails.
         unsafe {
-            p.module = dev
-                .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
-                .with_context(|| format!("vkCreateShaderModule '{name}'"))?;
             let layout_bindings: Vec<vk::DescriptorSetLayoutBinding> = bindings
                 .iter()
                 .map(|&(b, kind)| {
@@ -122,17 +152,69 @@ impl<'a> ComputePipeline<'a> {
                 .collect();
             let data: Vec<u8> = constants.iter().flat_map(|&(_, v)| v.to_ne_bytes()).collect();
             let spec = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
-            let mut stage = vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::COMPUTE)
-                .module(p.module)
-                .name(c"main");
-            if !constants.is_empty() {
-                stage = stage.specialization_info(&spec);
+            if let Some(so) = &ctx.shader_objects {
+                // The set layout and push range must match the pipeline layout's, which binds
+                // the descriptor sets and push constants for it.
+                let make = |code_type: vk::ShaderCodeTypeEXT, bytes: &[u8]| {
+                    let mut info = vk::ShaderCreateInfoEXT::default()
+                        .stage(vk::ShaderStageFlags::COMPUTE)
+                        .code_type(code_type)
+                        .code(bytes)
+                        .name(c"main")
+                        .set_layouts(&set_layouts);
+                    if push_size > 0 {
+                        info = info.push_constant_ranges(&ranges);
+                    }
+                    if !constants.is_empty() {
+                        info = info.specialization_info(&spec);
+                    }
+                    so.fns.create_shaders(&[info], None).map(|s| s[0]).map_err(|(_, e)| e)
+                };
+                let kinds: Vec<(u32, u32)> = bindings.iter().map(|&(b, kind)| (b, kind.vk().as_raw() as u32)).collect();
+                let info = &ctx.info;
+                let device = format!("{} | {} {} {} | {}", info.name, info.driver_name, info.driver_info, info.driver_version, info.subgroup_size);
+                let file = ctx.shader_cache.as_ref().map(|dir| {
+                    let key = ShaderKey {
+                        binary_uuid: so.binary_uuid,
+                        binary_version: so.binary_version,
+                        device: &device,
+                        spirv: spv,
+                        constants,
+                        bindings: &kinds,
+                        push_size,
+                    };
+                    key.file_in(dir)
+                });
+                // A binary the driver refuses (VK_ERROR_INCOMPATIBLE_SHADER_BINARY_EXT: another
+                // driver version, a damaged file) is made again from the SPIR-V below.
+                let cached = file.as_deref().and_then(shader_cache::load).and_then(|b| make(vk::ShaderCodeTypeEXT::BINARY, &b).ok());
+                if let Some(shader) = cached {
+                    p.shader = shader;
+                    p.origin = ShaderOrigin::CachedShaderObject;
+                } else {
+                    p.shader = make(vk::ShaderCodeTypeEXT::SPIRV, bytemuck::cast_slice(&code)).map_err(|e| anyhow!("vkCreateShadersEXT '{name}': {e}"))?;
+                    let kept = file.map(|file| {
+                        let binary = so.fns.get_shader_binary_data(p.shader).map_err(|e| format!("vkGetShaderBinaryDataEXT: {e}"))?;
+                        shader_cache::store(&file, &binary)
+                    });
+                    p.origin = ShaderOrigin::SpirvShaderObject { kept };
+                }
+            } else {
+                p.module = dev
+                    .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
+                    .with_context(|| format!("vkCreateShaderModule '{name}'"))?;
+                let mut stage = vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::COMPUTE)
+                    .module(p.module)
+                    .name(c"main");
+                if !constants.is_empty() {
+                    stage = stage.specialization_info(&spec);
+                }
+                let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(p.layout)];
+                p.pipeline = dev
+                    .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
+                    .map_err(|(_, e)| anyhow!("vkCreateComputePipelines '{name}': {e}"))?[0];
             }
-            let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(p.layout)];
-            p.pipeline = dev
-                .create_compute_pipelines(vk::PipelineCache::null(), &info, None)
-                .map_err(|(_, e)| anyhow!("vkCreateComputePipelines '{name}': {e}"))?[0];
             let mut sizes = Vec::new();
             for kind in [BindingKind::Storage, BindingKind::Uniform, BindingKind::Texels] {
                 let count = bindings.iter().filter(|b| b.1 == kind).count() as u32;
@@ -155,6 +237,11 @@ impl<'a> ComputePipeline<'a> {
     /// How long creating this pipeline took, in seconds.
     pub fn creation_seconds(&self) -> f64 {
         self.creation_seconds
+    }
+
+    /// Where its compiled shader came from.
+    pub fn origin(&self) -> &ShaderOrigin {
+        &self.origin
     }
 
     /// What binding `binding` holds.
@@ -227,7 +314,10 @@ impl<'a> ComputePipeline<'a> {
         // and by the validation layers in tests).
         debug_assert_eq!(push.len() as u32, self.push_size);
         unsafe {
-            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            match &self.ctx.shader_objects {
+                Some(so) if self.shader != vk::ShaderEXT::null() => so.fns.cmd_bind_shaders(cmd, &[vk::ShaderStageFlags::COMPUTE], &[self.shader]),
+                _ => dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline),
+            }
             dev.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout, 0, &[self.sets[set % self.sets.len()]], &[]);
             if !push.is_empty() {
                 dev.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
@@ -246,6 +336,9 @@ impl Drop for ComputePipeline<'_> {
         unsafe {
             dev.destroy_descriptor_pool(self.pool, None);
             dev.destroy_pipeline(self.pipeline, None);
+            if let Some(so) = &self.ctx.shader_objects {
+                so.fns.destroy_shader(self.shader, None);
+            }
             dev.destroy_pipeline_layout(self.layout, None);
             dev.destroy_descriptor_set_layout(self.set_layout, None);
             dev.destroy_shader_module(self.module, None);

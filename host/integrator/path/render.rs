@@ -209,7 +209,13 @@ pub fn render(
     let mut adaptive = settings.adaptive.then(|| AdaptiveState::new(&acc, grid));
     // One unused block entry for a uniform run.
     let gpu = PathGpu::new(ctx, scene, settings, &acc, if settings.adaptive { grid.count() } else { 1 })?;
-    let mut stats = RenderStats { pipeline_seconds: gpu.pipeline.creation_seconds(), light_connections: gpu.connects, shader: gpu.shader.name(), ..RenderStats::default() };
+    let mut stats = RenderStats {
+        pipeline_seconds: gpu.pipeline.creation_seconds(),
+        shader_origin: gpu.pipeline.origin().to_string(),
+        light_connections: gpu.connects,
+        shader: gpu.shader.name(),
+        ..RenderStats::default()
+    };
     let pixels = img.width as u64 * img.height as u64;
     // Adaptive runs use the size for their pilot only: then each block's rate decides.
     let mut sizer = if settings.grow_batches && !settings.adaptive {
