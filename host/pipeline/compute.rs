@@ -5,6 +5,7 @@
 //! binary a run before kept in the shader cache when there is one (super::shader_cache), else
 //! from the SPIR-V; elsewhere it is a compute pipeline. Both run the same code.
 
+use crate::gpu::shader_objects::ShaderObjects;
 use crate::gpu::{Buffer, Context, TexelView, IN_FLIGHT};
 use crate::gpu_abi::constants::{SPEC_CORRECT_DIVISION, SPEC_WORKGROUP_1D, SPEC_WORKGROUP_X, SPEC_WORKGROUP_Y};
 use super::shader_cache::{self, ShaderKey};
@@ -52,6 +53,73 @@ impl std::fmt::Display for ShaderOrigin {
             ShaderOrigin::CachedShaderObject => write!(f, "shader object from the shader cache"),
         }
     }
+}
+
+/// What a shader object is made with besides its code: the pipeline layout's parts (which
+/// bind its descriptor sets and push constants) and the specialization.
+struct Interface<'a> {
+    set_layouts: &'a [vk::DescriptorSetLayout],
+    ranges: &'a [vk::PushConstantRange],
+    push_size: u32,
+    spec: &'a vk::SpecializationInfo<'a>,
+    constants: &'a [(u32, u32)],
+    bindings: &'a [(u32, BindingKind)],
+}
+
+/// Shader `name` as a shader object: from the binary the shader cache keeps for it (a binary
+/// the driver refuses, VK_ERROR_INCOMPATIBLE_SHADER_BINARY_EXT for another driver version or a
+/// damaged file, is passed over), else from its SPIR-V (`spv`, as words `code`), keeping its
+/// binary for the next run.
+///
+/// # Safety
+/// The set layouts must be alive; the caller destroys the shader.
+unsafe fn shader_object(
+    ctx: &Context,
+    so: &ShaderObjects,
+    name: &str,
+    spv: &[u8],
+    code: &[u32],
+    interface: &Interface,
+) -> Result<(vk::ShaderEXT, ShaderOrigin)> {
+    let make = |code_type: vk::ShaderCodeTypeEXT, bytes: &[u8]| {
+        let mut info = vk::ShaderCreateInfoEXT::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .code_type(code_type)
+            .code(bytes)
+            .name(c"main")
+            .set_layouts(interface.set_layouts);
+        if interface.push_size > 0 {
+            info = info.push_constant_ranges(interface.ranges);
+        }
+        if !interface.constants.is_empty() {
+            info = info.specialization_info(interface.spec);
+        }
+        so.fns.create_shaders(&[info], None).map(|s| s[0]).map_err(|(_, e)| e)
+    };
+    let info = &ctx.info;
+    let device = format!("{} | {} {} {} | {}", info.name, info.driver_name, info.driver_info, info.driver_version, info.subgroup_size);
+    let kinds: Vec<(u32, u32)> = interface.bindings.iter().map(|&(b, kind)| (b, kind.vk().as_raw() as u32)).collect();
+    let file = ctx.shader_cache.as_ref().map(|dir| {
+        let key = ShaderKey {
+            binary_uuid: so.binary_uuid,
+            binary_version: so.binary_version,
+            device: &device,
+            spirv: spv,
+            constants: interface.constants,
+            bindings: &kinds,
+            push_size: interface.push_size,
+        };
+        key.file_in(dir)
+    });
+    if let Some(shader) = file.as_deref().and_then(shader_cache::load).and_then(|b| make(vk::ShaderCodeTypeEXT::BINARY, &b).ok()) {
+        return Ok((shader, ShaderOrigin::CachedShaderObject));
+    }
+    let shader = make(vk::ShaderCodeTypeEXT::SPIRV, bytemuck::cast_slice(code)).map_err(|e| anyhow!("vkCreateShadersEXT '{name}': {e}"))?;
+    let kept = file.map(|file| {
+        let binary = so.fns.get_shader_binary_data(shader).map_err(|e| format!("vkGetShaderBinaryDataEXT: {e}"))?;
+        shader_cache::store(&file, &binary)
+    });
+    Ok((shader, ShaderOrigin::SpirvShaderObject { kept }))
 }
 
 /// A compute pipeline (or shader object) and its descriptor sets; all freed on drop.
@@ -153,52 +221,8 @@ impl<'a> ComputePipeline<'a> {
             let data: Vec<u8> = constants.iter().flat_map(|&(_, v)| v.to_ne_bytes()).collect();
             let spec = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
             if let Some(so) = &ctx.shader_objects {
-                // The set layout and push range must match the pipeline layout's, which binds
-                // the descriptor sets and push constants for it.
-                let make = |code_type: vk::ShaderCodeTypeEXT, bytes: &[u8]| {
-                    let mut info = vk::ShaderCreateInfoEXT::default()
-                        .stage(vk::ShaderStageFlags::COMPUTE)
-                        .code_type(code_type)
-                        .code(bytes)
-                        .name(c"main")
-                        .set_layouts(&set_layouts);
-                    if push_size > 0 {
-                        info = info.push_constant_ranges(&ranges);
-                    }
-                    if !constants.is_empty() {
-                        info = info.specialization_info(&spec);
-                    }
-                    so.fns.create_shaders(&[info], None).map(|s| s[0]).map_err(|(_, e)| e)
-                };
-                let kinds: Vec<(u32, u32)> = bindings.iter().map(|&(b, kind)| (b, kind.vk().as_raw() as u32)).collect();
-                let info = &ctx.info;
-                let device = format!("{} | {} {} {} | {}", info.name, info.driver_name, info.driver_info, info.driver_version, info.subgroup_size);
-                let file = ctx.shader_cache.as_ref().map(|dir| {
-                    let key = ShaderKey {
-                        binary_uuid: so.binary_uuid,
-                        binary_version: so.binary_version,
-                        device: &device,
-                        spirv: spv,
-                        constants,
-                        bindings: &kinds,
-                        push_size,
-                    };
-                    key.file_in(dir)
-                });
-                // A binary the driver refuses (VK_ERROR_INCOMPATIBLE_SHADER_BINARY_EXT: another
-                // driver version, a damaged file) is made again from the SPIR-V below.
-                let cached = file.as_deref().and_then(shader_cache::load).and_then(|b| make(vk::ShaderCodeTypeEXT::BINARY, &b).ok());
-                if let Some(shader) = cached {
-                    p.shader = shader;
-                    p.origin = ShaderOrigin::CachedShaderObject;
-                } else {
-                    p.shader = make(vk::ShaderCodeTypeEXT::SPIRV, bytemuck::cast_slice(&code)).map_err(|e| anyhow!("vkCreateShadersEXT '{name}': {e}"))?;
-                    let kept = file.map(|file| {
-                        let binary = so.fns.get_shader_binary_data(p.shader).map_err(|e| format!("vkGetShaderBinaryDataEXT: {e}"))?;
-                        shader_cache::store(&file, &binary)
-                    });
-                    p.origin = ShaderOrigin::SpirvShaderObject { kept };
-                }
+                let interface = Interface { set_layouts: &set_layouts, ranges: &ranges, push_size, spec: &spec, constants, bindings };
+                (p.shader, p.origin) = shader_object(ctx, so, name, spv, &code, &interface)?;
             } else {
                 p.module = dev
                     .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
