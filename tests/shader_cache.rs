@@ -6,13 +6,13 @@
 
 mod common;
 
-use vkrt::gpu::{Context, ContextOptions, Validation};
+use vkrt::gpu::{Context, ContextOptions, ShaderObjectUse, Validation};
 use vkrt::integrator::path::Accumulation;
 use vkrt::integrator::{whitted, Image, RenderSettings};
 use vkrt::pipeline::ShaderOrigin;
 use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 
-fn context(shader_objects: bool, cache: &std::path::Path) -> Context {
+fn context(shader_objects: ShaderObjectUse, cache: &std::path::Path) -> Context {
     let options = ContextOptions {
         validation: Some(Validation::Off),
         shader_objects,
@@ -45,7 +45,7 @@ fn pipelines_shader_objects_and_cached_binaries_render_the_same_bytes() {
     let _ = std::fs::remove_dir_all(&dir);
     let prepared = PreparedScene::new(&common::cornell_measured(), &PrepareOptions::default()).unwrap();
 
-    let pipelines = context(false, &dir);
+    let pipelines = context(ShaderObjectUse::Never, &dir);
     assert!(pipelines.shader_objects.is_none(), "shader objects off by the options");
     let (acc_p, image_p, path_p, whitted_p) = render(&pipelines, &prepared);
     drop(pipelines);
@@ -53,10 +53,12 @@ fn pipelines_shader_objects_and_cached_binaries_render_the_same_bytes() {
     assert_eq!((path_p.as_str(), whitted_p.as_str()), (pipeline.as_str(), pipeline.as_str()));
     assert!(binaries(&dir).is_empty(), "pipelines keep nothing");
 
-    let ctx = context(true, &dir);
+    let ctx = context(ShaderObjectUse::Always, &dir);
     if ctx.info.name.contains("llvmpipe") {
-        // Mesa 25's lavapipe (tools/ensure-deps.sh) has the extension: the cache is exercised.
+        // Mesa 25's lavapipe (tools/ensure-deps.sh) has the extension: the cache is exercised,
+        // and it is what the default (auto) picks there.
         assert!(ctx.shader_objects.is_some(), "lavapipe without shader objects: {}", ctx.info.name);
+        assert!(context(ShaderObjectUse::Auto, &dir).shader_objects.is_some(), "auto picks shader objects on lavapipe");
     }
     let Some(_) = ctx.shader_objects else {
         // A device without shader objects makes pipelines whatever the options say.

@@ -22,6 +22,19 @@ pub enum Validation {
     Required,
 }
 
+/// Where compute shaders are made as shader objects instead of pipelines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShaderObjectUse {
+    /// Pipelines everywhere.
+    Never,
+    /// Shader objects where they are measured to pay: lavapipe, whose pipelines redo SPIR-V to
+    /// NIR every run (docs/experiments/shader-binaries.md). A GPU driver keeps its own cache of
+    /// compiled pipelines, and vkrt's shader-object path has not run on one yet.
+    Auto,
+    /// Shader objects wherever the device has them.
+    Always,
+}
+
 /// How to create a [`Context`].
 #[derive(Debug, Clone)]
 pub struct ContextOptions {
@@ -33,16 +46,16 @@ pub struct ContextOptions {
     /// `staged` (a discrete GPU without resizable BAR: every write and read through staging
     /// copies) or `mapped-writes` (one with it: writes in place, reads through staging).
     pub memory: Option<String>,
-    /// Use compute shader objects where the device has them (super::shader_objects) and the
-    /// validation layers are off; false (`VKRT_SHADER_OBJECTS=0`): pipelines everywhere.
-    pub shader_objects: bool,
+    /// Where to use compute shader objects (super::shader_objects) when the validation layers
+    /// are off (`VKRT_SHADER_OBJECTS`: 0 never, 1 wherever the device has them; unset: auto).
+    pub shader_objects: ShaderObjectUse,
     /// Where compiled shaders are kept between runs (with shader objects only); None: nowhere.
     pub shader_cache: Option<std::path::PathBuf>,
 }
 
 impl Default for ContextOptions {
     fn default() -> Self {
-        Self { device: None, validation: None, memory: None, shader_objects: true, shader_cache: None }
+        Self { device: None, validation: None, memory: None, shader_objects: ShaderObjectUse::Auto, shader_cache: None }
     }
 }
 
@@ -57,7 +70,11 @@ impl ContextOptions {
             _ => None,
         };
         let memory = std::env::var("VKRT_MEMORY").ok().filter(|s| !s.is_empty());
-        let shader_objects = !matches!(std::env::var("VKRT_SHADER_OBJECTS").as_deref(), Ok("0") | Ok("off") | Ok("false"));
+        let shader_objects = match std::env::var("VKRT_SHADER_OBJECTS").as_deref() {
+            Ok("0") | Ok("off") | Ok("false") => ShaderObjectUse::Never,
+            Ok("1") | Ok("on") | Ok("true") => ShaderObjectUse::Always,
+            _ => ShaderObjectUse::Auto,
+        };
         Self { device, validation, memory, shader_objects, shader_cache: None }
     }
 }
@@ -275,7 +292,7 @@ impl Context {
             ctx_debug = Some((du, messenger));
         }
         // From here on, failures must destroy what was created: build the rest in a closure.
-        let made = unsafe { Self::create_device(&instance, options, options.shader_objects && !validation) };
+        let made = unsafe { Self::create_device(&instance, options, if validation { ShaderObjectUse::Never } else { options.shader_objects }) };
         match made {
             Ok((physical, device, queue, queue_family, command_pool, memory, info, allocator, submissions, binary)) => Ok(Self {
                 shader_objects: binary.map(|(binary_uuid, binary_version)| super::shader_objects::ShaderObjects {
@@ -319,7 +336,7 @@ impl Context {
     unsafe fn create_device(
         instance: &ash::Instance,
         options: &ContextOptions,
-        shader_objects: bool,
+        shader_objects: ShaderObjectUse,
     ) -> Result<(vk::PhysicalDevice, ash::Device, vk::Queue, u32, vk::CommandPool, vk::PhysicalDeviceMemoryProperties, DeviceInfo, Allocator, Submissions, Option<([u8; vk::UUID_SIZE], u32)>)>
     {
         let pds = instance.enumerate_physical_devices().context("vkEnumeratePhysicalDevices")?;
@@ -338,7 +355,12 @@ impl Context {
             .ok_or_else(|| anyhow!("device {} has no compute queue", info.name))?;
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
-        let binary = if shader_objects { super::shader_objects::supported(instance, physical) } else { None };
+        let wanted = match shader_objects {
+            ShaderObjectUse::Never => false,
+            ShaderObjectUse::Auto => info.device_type == vk::PhysicalDeviceType::CPU && info.name.contains("llvmpipe"),
+            ShaderObjectUse::Always => true,
+        };
+        let binary = if wanted { super::shader_objects::supported(instance, physical) } else { None };
         let extensions = super::shader_objects::EXTENSIONS.map(|n| n.as_ptr());
         let mut feature = vk::PhysicalDeviceShaderObjectFeaturesEXT::default().shader_object(true);
         let mut device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);

@@ -17,7 +17,7 @@ pub mod workgroups;
 
 pub use buffer::{Buffer, TexelFormat, TexelView};
 pub use commands::{Ticket, IN_FLIGHT};
-pub use context::{Context, ContextOptions, Validation};
+pub use context::{Context, ContextOptions, ShaderObjectUse, Validation};
 pub use device_info::DeviceInfo;
 pub use memory::{HostAccess, MemoryLocation};
 pub use texel_array::TexelArray;

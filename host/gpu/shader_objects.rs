@@ -2,9 +2,10 @@
 //! device has them: unlike a pipeline, a shader object hands out its compiled form
 //! (`vkGetShaderBinaryDataEXT`), which a later run can create it from. On lavapipe that skips
 //! SPIR-V to NIR and NIR's passes, which its own disk cache does not: 0.13 of a cornell-measured
-//! render's 0.14 s of pipeline creation (docs/experiments/shader-binaries.md). Optional: devices
-//! without the extension, and runs with the validation layers (Debian 12's 1.3.239 layers predate
-//! the extension and would report the device's creation and every dispatch), use pipelines.
+//! render's 0.14 s of pipeline creation (docs/experiments/shader-binaries.md). Optional, and by
+//! default on lavapipe only (`ContextOptions::shader_objects`): GPUs, devices without the
+//! extension, and runs with the validation layers (Debian 12's 1.3.239 layers predate the
+//! extension and would report the device's creation and every dispatch) use pipelines.
 
 use ash::vk;
 

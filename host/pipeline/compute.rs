@@ -1,7 +1,7 @@
 //! A compute pipeline with its descriptor sets of buffers and a push-constant block. It has
 //! [`IN_FLIGHT`] copies of its set, so double-buffered work binds each submission's buffers to
 //! a set of its own (`bind_in`, `record_dispatch_in`); `bind` points all of them at a buffer.
-//! Where the device has shader objects (gpu::shader_objects) its shader is one, made from the
+//! Where the context uses shader objects (gpu::shader_objects) its shader is one, made from the
 //! binary a run before kept in the shader cache when there is one (super::shader_cache), else
 //! from the SPIR-V; elsewhere it is a compute pipeline. Both run the same code.
 
