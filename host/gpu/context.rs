@@ -357,7 +357,7 @@ impl Context {
         let queue_info = [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
         let wanted = match shader_objects {
             ShaderObjectUse::Never => false,
-            ShaderObjectUse::Auto => info.device_type == vk::PhysicalDeviceType::CPU && info.name.contains("llvmpipe"),
+            ShaderObjectUse::Auto => info.driver_id == vk::DriverId::MESA_LLVMPIPE,
             ShaderObjectUse::Always => true,
         };
         let binary = if wanted { super::shader_objects::supported(instance, physical) } else { None };

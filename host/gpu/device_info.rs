@@ -12,6 +12,8 @@ pub struct DeviceInfo {
     pub driver_name: String,
     pub driver_info: String,
     pub driver_version: u32,
+    /// Which driver (`VkDriverId`): lavapipe is `MESA_LLVMPIPE`.
+    pub driver_id: vk::DriverId,
     pub max_storage_buffer_range: u32,
     /// Most texels one texel-buffer view may hold (the scene's arrays are read as texels).
     pub max_texel_buffer_elements: u32,
@@ -67,6 +69,7 @@ impl DeviceInfo {
             driver_name: cstr_field(&driver.driver_name),
             driver_info: cstr_field(&driver.driver_info),
             driver_version: p.driver_version,
+            driver_id: driver.driver_id,
             max_storage_buffer_range: p.limits.max_storage_buffer_range,
             max_texel_buffer_elements: p.limits.max_texel_buffer_elements,
             max_workgroup_size: p.limits.max_compute_work_group_size,

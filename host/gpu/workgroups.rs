@@ -66,6 +66,7 @@ mod tests {
             driver_name: String::new(),
             driver_info: String::new(),
             driver_version: 0,
+            driver_id: ash::vk::DriverId::default(),
             max_storage_buffer_range: 1 << 27,
             max_texel_buffer_elements: 1 << 27,
             max_workgroup_size: [1024, 1024, 64],
