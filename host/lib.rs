@@ -10,6 +10,7 @@ pub mod accel;
 pub mod bvh;
 pub mod cli;
 pub mod error;
+pub mod files;
 pub mod geom;
 pub mod gpu;
 pub mod gpu_abi;

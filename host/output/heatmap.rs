@@ -86,15 +86,6 @@ pub fn render(counts: &[u32], width: u32, height: u32) -> Result<RgbImage> {
 /// Render and write a heat map as PNG, atomically.
 pub fn write(path: &Path, counts: &[u32], width: u32, height: u32) -> Result<()> {
     let img = render(counts, width, height)?;
-    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-    name.push(format!(".{}.tmp", std::process::id()));
-    let tmp = path.with_file_name(name);
-    let result = img
-        .save_with_format(&tmp, image::ImageFormat::Png)
-        .map_err(anyhow::Error::from)
-        .and_then(|_| std::fs::rename(&tmp, path).map_err(anyhow::Error::from));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.with_context(|| format!("writing heat map {}", path.display()))
+    crate::files::write_whole(path, |tmp| Ok(img.save_with_format(tmp, image::ImageFormat::Png)?))
+        .with_context(|| format!("writing heat map {}", path.display()))
 }

@@ -3,10 +3,11 @@
 //! Row 0 is the top of every image. Files are written to a temporary name beside the target and
 //! renamed into place, so an existing output is never replaced by a partial one.
 
+use crate::files;
 use crate::integrator::Image;
 use anyhow::{anyhow, bail, Context as _, Result};
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ImageFormat {
@@ -33,17 +34,11 @@ pub fn linear_to_srgb(x: f32) -> f32 {
     if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 }
 }
 
-fn temp_path(path: &Path) -> PathBuf {
-    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-    name.push(format!(".{}.tmp", std::process::id()));
-    path.with_file_name(name)
-}
-
 /// Fails now, before any rendering, if `path` has an unknown extension or its folder cannot
 /// be written.
 pub fn check_writable(path: &Path) -> Result<()> {
     ImageFormat::from_path(path)?;
-    let tmp = temp_path(path);
+    let tmp = files::temp_beside(path);
     std::fs::File::create(&tmp).with_context(|| format!("{}: cannot write the output here", path.display()))?;
     let _ = std::fs::remove_file(&tmp);
     Ok(())
@@ -52,14 +47,7 @@ pub fn check_writable(path: &Path) -> Result<()> {
 /// Writes `image` to `path` in the format its extension names, atomically.
 pub fn write_image(path: &Path, image: &Image) -> Result<()> {
     let format = ImageFormat::from_path(path)?;
-    let tmp = temp_path(path);
-    let result = write_format(&tmp, format, image).and_then(|_| {
-        std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
-    });
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.with_context(|| format!("writing {}", path.display()))
+    files::write_whole(path, |tmp| write_format(tmp, format, image))
 }
 
 fn write_format(path: &Path, format: ImageFormat, image: &Image) -> Result<()> {

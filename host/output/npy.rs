@@ -12,6 +12,7 @@
 //! Reading never panics: a malformed file is an error naming the file and what is wrong. Hits are
 //! written to a temporary file beside the target and renamed into place when complete.
 
+use crate::files;
 use crate::gpu_abi::{GpuHit, GpuRay};
 use anyhow::{bail, Context as _, Result};
 use std::fs::File;
@@ -193,7 +194,7 @@ pub struct HitWriter {
 
 impl HitWriter {
     pub fn create(path: &Path, count: u64) -> Result<Self> {
-        let tmp = temp_path(path);
+        let tmp = files::temp_beside(path);
         let file = File::create(&tmp).with_context(|| format!("{}: cannot write the output here", path.display()))?;
         let mut w = Self { path: path.to_path_buf(), tmp, file: Some(BufWriter::new(file)), count, written: 0 };
         let header = header_bytes(HIT_DESCR, &format!("({count},)"));
@@ -270,23 +271,11 @@ pub fn read_hits(path: &Path) -> Result<Vec<HitRecord>> {
         .collect())
 }
 
-fn temp_path(path: &Path) -> PathBuf {
-    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-    name.push(format!(".{}.tmp", std::process::id()));
-    path.with_file_name(name)
-}
-
 fn write_atomically(path: &Path, body: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>) -> Result<()> {
-    let tmp = temp_path(path);
-    let result = (|| -> Result<()> {
-        let mut w = BufWriter::new(File::create(&tmp)?);
+    files::write_whole(path, |tmp| {
+        let mut w = BufWriter::new(File::create(tmp)?);
         body(&mut w)?;
         w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        std::fs::rename(&tmp, path)?;
         Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.with_context(|| format!("writing {}", path.display()))
+    })
 }

@@ -4,7 +4,11 @@
 //! renamed), and a binary the driver refuses (another driver, or a damaged file) is made again
 //! from the SPIR-V and written over.
 
+use crate::files::{self, Bound};
 use std::path::{Path, PathBuf};
+
+/// The kept binaries' file extension.
+const EXTENSION: &str = "bin";
 
 /// Files kept at most; past it, the oldest written go (a path shader build with its
 /// specialization is ~100-300 kB on lavapipe, so this bounds the folder near 100 MB).
@@ -44,7 +48,7 @@ impl ShaderKey<'_> {
             }
         }
         bytes.extend_from_slice(&self.push_size.to_le_bytes());
-        dir.join(format!("{:032x}.bin", xxhash_rust::xxh3::xxh3_128(&bytes)))
+        dir.join(format!("{:032x}.{EXTENSION}", xxhash_rust::xxh3::xxh3_128(&bytes)))
     }
 }
 
@@ -76,31 +80,9 @@ impl std::ops::Deref for Aligned {
 pub fn store(file: &Path, binary: &[u8]) -> Result<(), String> {
     let dir = file.parent().ok_or_else(|| format!("{}: no folder", file.display()))?;
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    // Unique per process and thread: runs sharing the folder never write one temporary file.
-    let tmp = file.with_extension(format!("tmp.{}.{:?}", std::process::id(), std::thread::current().id()).replace(['(', ')'], ""));
-    std::fs::write(&tmp, binary).and_then(|_| std::fs::rename(&tmp, file)).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("{}: {e}", file.display())
-    })?;
-    trim(dir, MAX_ENTRIES);
+    files::write_whole(file, |tmp| Ok(std::fs::write(tmp, binary)?)).map_err(|e| format!("{e:#}"))?;
+    files::remove_oldest(dir, EXTENSION, Bound::Files(MAX_ENTRIES), Some(file));
     Ok(())
-}
-
-/// Removes the oldest-written `.bin` files of `dir` until at most `keep` are left.
-fn trim(dir: &Path, keep: usize) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let mut files: Vec<(std::time::SystemTime, PathBuf)> = entries
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().extension().is_some_and(|x| x == "bin"))
-        .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
-        .collect();
-    if files.len() <= keep {
-        return;
-    }
-    files.sort();
-    for (_, path) in &files[..files.len() - keep] {
-        let _ = std::fs::remove_file(path);
-    }
 }
 
 #[cfg(test)]
@@ -127,7 +109,7 @@ mod tests {
     }
 
     #[test]
-    fn store_writes_whole_files_and_trims_the_oldest() {
+    fn store_writes_whole_files_and_keeps_at_most_max_entries() {
         let dir = std::env::temp_dir().join(format!("vkrt-shader-cache-unit-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         let file = dir.join("a.bin");
@@ -136,14 +118,12 @@ mod tests {
         assert_eq!(&loaded[..], b"binary");
         assert_eq!(loaded.as_ptr() as usize % 16, 0);
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
-        for i in 0..4 {
-            std::thread::sleep(std::time::Duration::from_millis(20));
+        for i in 0..MAX_ENTRIES + 2 {
             store(&dir.join(format!("{i}.bin")), b"x").unwrap();
         }
-        trim(&dir, 2);
-        let mut left: Vec<String> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
-        left.sort();
-        assert_eq!(left, ["2.bin", "3.bin"]);
+        let left = std::fs::read_dir(&dir).unwrap().count();
+        assert_eq!(left, MAX_ENTRIES);
+        assert!(dir.join(format!("{}.bin", MAX_ENTRIES + 1)).exists(), "the file just stored stays");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

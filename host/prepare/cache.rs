@@ -21,6 +21,7 @@
 use super::features::{self, Features};
 use super::{PrepareOptions, PrepareTimes, PreparedScene, SceneArrays, SceneInfo};
 use crate::accel::LayoutKind;
+use crate::files::{self, Bound};
 use crate::geom::Aabb;
 use crate::gpu_abi::GpuPush;
 use crate::scene::{self, Camera, LoadStats, SceneSummary, Sky};
@@ -393,9 +394,8 @@ fn store(cache: &Cache, entry: &Path, prepared: &PreparedScene, summary: &SceneS
     let meta_bytes = encode(&meta);
     let total = offset;
 
-    let tmp = entry.with_extension(format!("{}.tmp", std::process::id()));
-    let result = (|| -> Result<()> {
-        let file = std::fs::File::create(&tmp)?;
+    files::write_whole(entry, |tmp| {
+        let file = std::fs::File::create(tmp)?;
         let mut out = std::io::BufWriter::with_capacity(1 << 20, file);
         let mut hasher = Xxh3::new();
         let mut body = |out: &mut std::io::BufWriter<std::fs::File>, bytes: &[u8]| -> std::io::Result<()> {
@@ -426,36 +426,16 @@ fn store(cache: &Cache, entry: &Path, prepared: &PreparedScene, summary: &SceneS
         // length and checksum checks of `open` catch; waiting for the disk would add seconds
         // to the first run of a big scene.
         Ok(())
-    })();
-    if let Err(e) = result.and_then(|()| std::fs::rename(&tmp, entry).map_err(Into::into)) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e).with_context(|| format!("writing {}", tmp.display()));
-    }
+    })?;
     evict(cache, entry);
     Ok(())
 }
 
-/// Removes the least recently used entries (by modification time) until the cache fits in
-/// `max_bytes`; never `keep`. Best effort: an entry another run removed first is skipped.
+/// Removes the least recently used entries (by modification time: `prepare_scene` touches the
+/// entry it uses) until the cache fits in `max_bytes`; never `keep`.
 fn evict(cache: &Cache, keep: &Path) {
-    if cache.max_bytes == u64::MAX {
-        return;
-    }
-    let Ok(dir) = std::fs::read_dir(&cache.dir) else { return };
-    let mut entries: Vec<(std::time::SystemTime, u64, PathBuf)> = dir
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().extension().is_some_and(|x| x == EXTENSION))
-        .filter_map(|e| e.metadata().ok().map(|m| (m.modified().unwrap_or(std::time::UNIX_EPOCH), m.len(), e.path())))
-        .collect();
-    let mut total: u64 = entries.iter().map(|e| e.1).sum();
-    entries.sort();
-    for (_, len, path) in entries {
-        if total <= cache.max_bytes {
-            break;
-        }
-        if path != keep && std::fs::remove_file(&path).is_ok() {
-            total -= len;
-        }
+    if cache.max_bytes != u64::MAX {
+        files::remove_oldest(&cache.dir, EXTENSION, Bound::Bytes(cache.max_bytes), Some(keep));
     }
 }
 
@@ -674,30 +654,6 @@ impl Reader<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn eviction_removes_the_least_recently_used_entries_but_never_the_one_kept() {
-        let dir = std::env::temp_dir().join(format!("vkrt-evict-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        let now = std::time::SystemTime::now();
-        let entry = |i: u64| {
-            let p = dir.join(format!("{i}.{EXTENSION}"));
-            std::fs::write(&p, [0u8; 100]).unwrap();
-            let age = std::time::Duration::from_secs(100 * (4 - i));
-            std::fs::File::options().append(true).open(&p).unwrap().set_modified(now - age).unwrap();
-            p
-        };
-        let files: Vec<PathBuf> = (0..4).map(entry).collect();
-        std::fs::write(dir.join("other.txt"), [0u8; 1000]).unwrap();
-        // 400 bytes of entries, 250 allowed: the two oldest go, unless one is kept.
-        let cache = Cache { dir: dir.clone(), min_prepare_seconds: 0.0, max_bytes: 250 };
-        evict(&cache, &files[0]);
-        let left: Vec<bool> = files.iter().map(|f| f.exists()).collect();
-        assert_eq!(left, [true, false, false, true], "the oldest is kept as asked; the next two go");
-        assert!(dir.join("other.txt").exists(), "files that are not entries are left alone");
-        let _ = std::fs::remove_dir_all(&dir);
-    }
 
     #[test]
     fn metadata_round_trips_and_a_cut_is_an_error() {

@@ -524,16 +524,8 @@ impl Checkpoint {
 
     /// Writes atomically: a temporary file beside `path`, then a rename.
     pub fn write(&self, path: &Path) -> Result<()> {
-        let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-        tmp_name.push(format!(".{}.tmp", std::process::id()));
-        let tmp = path.with_file_name(tmp_name);
-        let result = std::fs::write(&tmp, self.to_bytes())
-            .with_context(|| format!("writing {}", tmp.display()))
-            .and_then(|_| std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display())));
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result.with_context(|| format!("writing checkpoint {}", path.display()))
+        crate::files::write_whole(path, |tmp| Ok(std::fs::write(tmp, self.to_bytes())?))
+            .with_context(|| format!("writing checkpoint {}", path.display()))
     }
 
     pub fn read(path: &Path) -> Result<Self> {
