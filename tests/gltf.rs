@@ -1,7 +1,7 @@
 //! The glTF 2.0 loader (host/scene/gltf/) on files the tests write themselves
 //! (tests/common/gltf_writer.rs): transforms, instancing, mirroring, the three buffer storages, sparse accessors,
 //! textures on the right face, cameras by index, punctual lights in both integrators, and errors
-//! that name file and location.
+//! that name file and location (also for files the gltf crate itself would panic on).
 
 mod common;
 
@@ -540,6 +540,104 @@ fn unsupported_mode_required_extension_and_missing_bin_are_errors_naming_file_an
     doc.write_gltf(&dir.join("nobin.gltf"), Storage::External("nobin.bin"));
     std::fs::remove_file(dir.join("nobin.bin")).unwrap();
     assert_fails_naming(&dir.join("nobin.gltf"), "buffers[0]", "nobin.bin");
+}
+
+/// Files the gltf crate (1.4.1) would panic on, found by fuzzing (fuzz/regressions/gltf/):
+/// each is an error naming the file and the primitive instead.
+#[test]
+fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
+    use json::accessor::{ComponentType, GenericComponentType};
+    use json::mesh::Semantic;
+    let dir = scratch("panics");
+    let component = |doc: &mut Doc, a: json::Index<json::Accessor>, t: ComponentType| {
+        doc.root.accessors[a.value()].component_type = Valid(GenericComponentType(t));
+    };
+
+    // POSITION names an accessor past the end (the crate's validator indexes it unchecked).
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.root.meshes[0].primitives[0].attributes.insert(Valid(Semantic::Positions), json::Index::new(99));
+    doc.write_gltf(&dir.join("position.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("position.gltf"), "meshes[0].primitives[0].attributes.POSITION", "accessor 99 does not exist");
+
+    // Indices stored as floats (the crate's index reader knows unsigned integers only).
+    let mut doc = Doc::new();
+    let p = doc.vec3(&TRI);
+    let i = doc.indices(&[0, 1, 2]);
+    component(&mut doc, i, ComponentType::F32);
+    let prim = doc.primitive(&[(Semantic::Positions, p)], Some(i), None, json::mesh::Mode::Triangles);
+    let mesh = doc.mesh(vec![prim]);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.write_gltf(&dir.join("float_indices.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("float_indices.gltf"), "meshes[0].primitives[0]", "indices accessor 1 is FLOAT, not UNSIGNED_BYTE or UNSIGNED_SHORT or UNSIGNED_INT");
+
+    // Texture coordinates as signed bytes (the crate's reader knows FLOAT and unsigned only).
+    let mut doc = Doc::new();
+    let mesh = quad_doc(&mut doc, None, false);
+    let uv = doc.root.meshes[mesh.value()].primitives[0].attributes[&Valid(Semantic::TexCoords(0))];
+    component(&mut doc, uv, ComponentType::I8);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.write_gltf(&dir.join("byte_uvs.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("byte_uvs.gltf"), "meshes[0].primitives[0]", "TEXCOORD_0 accessor 2 is BYTE, not FLOAT or UNSIGNED_BYTE or UNSIGNED_SHORT");
+
+    // Texture coordinates with three components.
+    let mut doc = Doc::new();
+    let p = doc.vec3(&TRI);
+    let uv = doc.vec3(&TRI);
+    let prim = doc.primitive(&[(Semantic::Positions, p), (Semantic::TexCoords(0), uv)], None, None, json::mesh::Mode::Triangles);
+    let mesh = doc.mesh(vec![prim]);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.write_gltf(&dir.join("vec3_uvs.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("vec3_uvs.gltf"), "meshes[0].primitives[0]", "TEXCOORD_0 accessor 1 is Vec3, not Vec2");
+
+    // An image in a buffer view without the mimeType the spec requires there.
+    let mut doc = Doc::new();
+    let view = doc.view(&png(1, 1, &[[255, 0, 0, 255]]));
+    let image = doc.root.push(json::Image { buffer_view: Some(view), mime_type: None, name: None, uri: None, extensions: None, extras: Default::default() });
+    let tex = doc.root.push(json::Texture { name: None, sampler: None, source: image, extensions: None, extras: Default::default() });
+    let m = textured_material(&mut doc, tex);
+    let mesh = quad_doc(&mut doc, Some(m), false);
+    let n = doc.node(mesh_node(mesh));
+    doc.scene(vec![n]);
+    doc.write_gltf(&dir.join("no_mime.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("no_mime.gltf"), "images[0]", "no mimeType");
+    doc.root.images[0].buffer_view = None;
+    doc.write_gltf(&dir.join("no_source.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("no_source.gltf"), "images[0]", "neither a uri nor a bufferView");
+
+    // Sizes the crate computes unchecked: an accessor of no elements, a sparse block of none,
+    // elements past their buffer view's end, a view past its buffer's.
+    let sized = |name: &str, edit: &dyn Fn(&mut Doc)| {
+        let mut doc = Doc::new();
+        let p = doc.vec3_sparse(3, Some(&TRI), &[1], &[[2.0, 0.0, 0.0]]);
+        let prim = doc.primitive(&[(Semantic::Positions, p)], None, None, json::mesh::Mode::Triangles);
+        let mesh = doc.mesh(vec![prim]);
+        let n = doc.node(mesh_node(mesh));
+        doc.scene(vec![n]);
+        edit(&mut doc);
+        let path = dir.join(name);
+        doc.write_gltf(&path, Storage::DataUri);
+        path
+    };
+    let path = sized("count_0.gltf", &|doc| doc.root.accessors[0].count = json::validation::USize64(0));
+    assert_fails_naming(&path, "accessors[0]", "count is 0");
+    let path = sized("sparse_0.gltf", &|doc| doc.root.accessors[0].sparse.as_mut().unwrap().count = json::validation::USize64(0));
+    assert_fails_naming(&path, "accessors[0].sparse", "count is 0");
+    let path = sized("huge_count.gltf", &|doc| doc.root.accessors[0].count = json::validation::USize64(u64::MAX / 4));
+    assert_fails_naming(&path, "accessors[0]", "lie outside bufferView 0's 36 bytes");
+    let path = sized("long_view.gltf", &|doc| doc.root.buffer_views[2].byte_length = json::validation::USize64(1 << 40));
+    assert_fails_naming(&path, "bufferViews[2]", "lie outside buffer 0");
+    assert!(load_scene(&sized("sparse_ok.gltf", &|_| ())).is_ok(), "the unedited file loads");
+
+    // A GLB header whose total length is shorter than the header (the crate subtracts unchecked).
+    let glb = dir.join("short_header.glb");
+    std::fs::write(&glb, [&b"glTF"[..], &2u32.to_le_bytes(), &4u32.to_le_bytes(), &[0u8; 20]].concat()).unwrap();
+    assert_fails_naming(&glb, "GLB container", "length of 4 bytes, less than the header's own 12");
 }
 
 /// The README's glTF scene (scenes/gltf/showcase.gltf, tools/make_gltf_showcase.py) loads with

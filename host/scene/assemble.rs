@@ -135,7 +135,10 @@ pub fn closest_face(scene: &Scene, origin: Vec3, dir: Vec3) -> Option<(f32, bool
         let q = s.cross(e1);
         let v = dir.dot(q) / det;
         let t = e2.dot(q) / det;
-        if u < 0.0 || v < 0.0 || u + v > 1.0 || t <= 0.0 || best.is_some_and(|(b, _)| t >= b) {
+        // Written as what a hit is, so that a NaN (coordinates near f32::MAX overflow the
+        // products) is no hit.
+        let hit = u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0;
+        if !hit || best.is_some_and(|(b, _)| t >= b) {
             continue;
         }
         let normal = match tri.n {

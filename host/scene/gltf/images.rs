@@ -8,6 +8,21 @@ use std::path::{Path, PathBuf};
 use super::at;
 use crate::scene::{Scene, Texture};
 
+/// Every image has a source the crate can name: a `uri`, or a `bufferView` with its `mimeType`
+/// (spec section 5.17, which requires exactly that). The crate's `Image::source` unwraps both
+/// and would panic on a file without them.
+pub fn check_sources(json: &::gltf::json::Root, file: &Path) -> anyhow::Result<()> {
+    for (i, image) in json.images.iter().enumerate() {
+        let msg = match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (None, None, _) => "has neither a uri nor a bufferView",
+            (_, Some(_), None) => "is in a bufferView but has no mimeType",
+            _ => continue,
+        };
+        return Err(at(file, format!("images[{i}]"), msg));
+    }
+    Ok(())
+}
+
 /// The images of one document, decoded on first use.
 pub struct Images<'a> {
     buffers: &'a [Vec<u8>],

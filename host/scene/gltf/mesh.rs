@@ -15,6 +15,7 @@
 
 use std::path::Path;
 
+use ::gltf::accessor::{DataType, Dimensions};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::at;
@@ -92,14 +93,19 @@ struct Vertices {
 fn read_vertices(prim: &::gltf::Primitive, buffers: &[Vec<u8>], file: &Path, loc: &str) -> anyhow::Result<Vertices> {
     use ::gltf::mesh::Semantic;
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-    // The crate reads these three as f32 whatever their accessor says; the core spec requires
-    // float for them (KHR_mesh_quantization, which allows integers, is not supported).
-    for (semantic, name) in [(Semantic::Positions, "POSITION"), (Semantic::Normals, "NORMAL"), (Semantic::Tangents, "TANGENT")] {
+    use ::gltf::accessor::DataType::{F32, U16, U8};
+    // The crate reads the first three as f32 whatever their accessor says; the core spec
+    // requires float for them (KHR_mesh_quantization, which allows integers, is not supported).
+    // Texture coordinates may also be normalized unsigned bytes or shorts (section 3.7.2.1).
+    let allowed: [(Semantic, &str, &[DataType], Dimensions); 4] = [
+        (Semantic::Positions, "POSITION", &[F32], Dimensions::Vec3),
+        (Semantic::Normals, "NORMAL", &[F32], Dimensions::Vec3),
+        (Semantic::Tangents, "TANGENT", &[F32], Dimensions::Vec4),
+        (Semantic::TexCoords(0), "TEXCOORD_0", &[F32, U8, U16], Dimensions::Vec2),
+    ];
+    for (semantic, name, types, dimensions) in allowed {
         if let Some(a) = prim.get(&semantic) {
-            if a.data_type() != ::gltf::accessor::DataType::F32 {
-                let msg = format!("{name} accessor {} is {:?}, not FLOAT", a.index(), a.data_type());
-                return Err(at(file, loc, msg));
-            }
+            check_accessor(&a, name, types, dimensions).map_err(|msg| at(file, loc, msg))?;
         }
     }
     let unreadable = |name: &str, a: Option<::gltf::Accessor>| {
@@ -156,6 +162,9 @@ fn triangle_corners(
     let indices: Vec<usize> = match prim.indices() {
         None => (0..vertex_count).collect(),
         Some(a) => {
+            // Spec section 3.7.2.1: scalars of unsigned byte, short or int.
+            use ::gltf::accessor::DataType::{U16, U32, U8};
+            check_accessor(&a, "indices", &[U8, U16, U32], Dimensions::Scalar).map_err(|msg| at(file, loc, msg))?;
             let read = reader.read_indices().ok_or_else(|| {
                 at(file, loc, format!("indices (accessor {}) cannot be read: it lies outside its buffer", a.index()))
             })?;
@@ -186,4 +195,35 @@ fn triangle_corners(
             return Err(at(file, loc, msg));
         }
     })
+}
+
+/// An accessor holds what the spec allows for its use (`name`): one of `types`, `dimensions`,
+/// and a buffer view stride no smaller than an element. The crate's readers assume all three
+/// (an unexpected component type is `unreachable!`, the others debug assertions), so a file
+/// that breaks them is an error here, not a panic there.
+fn check_accessor(a: &::gltf::Accessor, name: &str, types: &[DataType], dimensions: Dimensions) -> Result<(), String> {
+    if !types.contains(&a.data_type()) {
+        return Err(format!("{name} accessor {} is {}, not {}", a.index(), type_names(&[a.data_type()]), type_names(types)));
+    }
+    if a.dimensions() != dimensions {
+        return Err(format!("{name} accessor {} is {:?}, not {dimensions:?}", a.index(), a.dimensions()));
+    }
+    if let Some(stride) = a.view().and_then(|v| v.stride()).filter(|&s| s < a.size()) {
+        return Err(format!("{name} accessor {}: byteStride {stride} is less than its {}-byte element", a.index(), a.size()));
+    }
+    Ok(())
+}
+
+/// glTF's names for component types: "UNSIGNED_BYTE or FLOAT".
+fn type_names(types: &[DataType]) -> String {
+    let name = |t: &DataType| match t {
+        DataType::I8 => "BYTE",
+        DataType::U8 => "UNSIGNED_BYTE",
+        DataType::I16 => "SHORT",
+        DataType::U16 => "UNSIGNED_SHORT",
+        DataType::U32 => "UNSIGNED_INT",
+        DataType::F32 => "FLOAT",
+    };
+    let names: Vec<&str> = types.iter().map(name).collect();
+    names.join(" or ")
 }

@@ -2,7 +2,8 @@
 //! `.glb` (the binary container), after the Khronos glTF 2.0 specification.
 //!
 //! The `gltf` crate parses the JSON and the GLB container, validates indices and reads accessors
-//! (sparse ones included); buffers and images are resolved here ([`buffers`], [`images`]), so
+//! (sparse ones included), after [`accessors`] has checked the sizes it would compute unchecked;
+//! buffers and images are resolved here ([`buffers`], [`images`]), so
 //! that every file read lands in `LoadStats::inputs` (checkpoints hash them) and every error is
 //! an [`InputError`] naming the file and the JSON location (`meshes[2].primitives[0]`).
 //!
@@ -17,6 +18,7 @@
 //! Triangle order (= primitive ids): nodes in depth-first order from the scene's roots, each
 //! node's primitives in file order, each primitive's triangles in index order.
 
+mod accessors;
 mod buffers;
 mod cameras;
 mod extensions;
@@ -49,13 +51,18 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
         std::fs::read(path).map_err(|e| InputError::new(path, None, format!("cannot read the file: {e}")))?;
     let mut scene = Scene::default();
     scene.stats.read_input(path);
+    check_glb_header(&bytes, path)?;
     // Parsed without validation first, so that an unsupported required extension is reported
     // as such (the crate's validator would only say "unsupported").
     let ::gltf::Gltf { document, blob } =
         ::gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
     drop(bytes);
     extensions::check(&document, path, &mut scene.stats)?;
-    let document = ::gltf::Document::from_json(document.into_json()).map_err(|e| parse_error(path, e))?;
+    let json = document.into_json();
+    // Checks of what the crate would otherwise panic on (found by fuzz/fuzz_targets/gltf.rs).
+    accessors::check(&json, path)?;
+    images::check_sources(&json, path)?;
+    let document = ::gltf::Document::from_json(json).map_err(|e| parse_error(path, e))?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let buffers = buffers::load(&document, blob, path, dir, &mut scene.stats)?;
 
@@ -86,6 +93,20 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
         scene.ambient = Vec3::splat(0.05);
     }
     Ok(scene)
+}
+
+/// A GLB file's header (spec section 4.4.2: magic, version, total length) gives a length of at
+/// least its own 12 bytes: the crate subtracts 12 from it unchecked.
+fn check_glb_header(bytes: &[u8], file: &Path) -> anyhow::Result<()> {
+    const HEADER_BYTES: usize = 12;
+    if let Some(header) = bytes.strip_prefix(b"glTF").filter(|_| bytes.len() >= HEADER_BYTES) {
+        let length = u32::from_le_bytes([header[4], header[5], header[6], header[7]]);
+        if (length as usize) < HEADER_BYTES {
+            let msg = format!("not a valid GLB container: its header gives a length of {length} bytes, less than the header's own {HEADER_BYTES}");
+            return Err(InputError::new(file, None, msg).into());
+        }
+    }
+    Ok(())
 }
 
 /// The crate's parse or validation error, located: JSON syntax errors by line and column,
