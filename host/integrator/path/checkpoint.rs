@@ -265,6 +265,10 @@ fn put_str(out: &mut Vec<u8>, s: &str) {
     out.extend_from_slice(s.as_bytes());
 }
 
+/// The fewest bytes a pixel takes in any version: two `[f32; 4]` sums before the fixed-point
+/// format, two `[u64; 3]` sums and two `u32` counts since.
+const LEAST_BYTES_PER_PIXEL: usize = 32;
+
 /// Reads little-endian fields from a byte slice, failing with the field's name when short.
 struct Reader<'a> {
     data: &'a [u8],
@@ -272,6 +276,9 @@ struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
+    fn remaining(&self) -> usize {
+        self.data.len() - self.pos
+    }
     fn bytes(&mut self, n: usize, field: &str) -> Result<&'a [u8]> {
         let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
         let Some(end) = end else { bail!("truncated at field `{field}` (byte {})", self.pos) };
@@ -445,6 +452,11 @@ impl Checkpoint {
             bail!("even_samples {even_samples} exceeds samples {samples}");
         }
         let pixels = width as usize * height as usize;
+        // Every pixel's sums are stored (at least 32 bytes of them, in the oldest format):
+        // a damaged size fails here rather than allocating for pixels the file does not hold.
+        if pixels > r.remaining() / LEAST_BYTES_PER_PIXEL {
+            bail!("truncated: {width}x{height} pixels need more than the {} bytes left (byte {})", r.remaining(), r.pos);
+        }
         let mut accum = Accumulation::new(width, height);
         if version > VERSION_BEFORE_FIXED {
             accum.even = r.fixed(pixels, "even sums")?;
@@ -624,6 +636,19 @@ mod tests {
         let mut bad = bytes.clone();
         bad[0] = b'X';
         assert!(Checkpoint::from_bytes(&bad).is_err(), "bad magic accepted");
+    }
+
+    #[test]
+    fn a_damaged_size_is_an_error_before_any_allocation_for_it() {
+        let bytes = sample(7).to_bytes();
+        // magic, version, the scene path (length and bytes), the scene hash: then width, height.
+        let at = 8 + 4 + 4 + "a.yaml".len() + 8;
+        assert_eq!(bytes[at..at + 8], [3, 0, 0, 0, 2, 0, 0, 0]);
+        let mut bad = bytes.clone();
+        bad[at..at + 8].copy_from_slice(&[u32::MAX.to_le_bytes(), u32::MAX.to_le_bytes()].concat());
+        // Without the check this would ask for 2^64 x 56 bytes of sums.
+        let e = format!("{:#}", Checkpoint::from_bytes(&bad).unwrap_err());
+        assert!(e.contains("truncated") && e.contains("4294967295x4294967295"), "{e}");
     }
 
     /// A checkpoint as vkrt wrote it before format 4: identified by the scene file's hash.
