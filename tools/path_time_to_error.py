@@ -8,9 +8,11 @@ the render time and the relMSE against the reference (mean((a-b)^2/(b^2+0.01)), 
 renderer relMSE falls as 1/time, so the product is constant and smaller is faster.
 
 Times are render times: vkrt's own report ("in X s": BVH build and upload excluded, pipeline
-creation and read-back included; each round line says how much was pipeline creation, which
-lavapipe redoes every run) and Mitsuba's mi.render() after one warm-up render (its JIT compiles
-kernels once, and that time is not counted);
+creation and read-back included; each round line says how much was pipeline creation) and
+Mitsuba's mi.render(). Each renderer first makes one warm-up render that is not counted:
+Mitsuba's JIT compiles its kernels, vkrt fills its shader cache (and Mesa's) as any earlier run
+on the machine would, so that a first round on a fresh machine does not time a shader compile
+(its pipeline creation from the cache, ~0.01 s, stays counted);
 with --rounds N every row runs N times, interleaved, and keeps its shortest time. Each sample
 count runs every vkrt configuration and then Mitsuba back to back.
 
@@ -386,6 +388,13 @@ def main():
         note = "" if pipeline is None else f" (of which pipeline creation {pipeline:.3f} s)"
         print(f"round {r + 1}: {label} {spp:5d} spp {secs:8.3f} s relMSE {rel:.4e} product {rel * secs:.3e} FLIP {fmt(flip)}{note}", flush=True)
 
+    # vkrt's warm-up, as Mitsuba's (MitsubaBench.__init__): one uncounted render of each
+    # configuration (1 spp; 8, the least the ladder runs, with adaptive sampling), so that the
+    # shader variant each one uses is in the caches before round 1.
+    for coherence, sampler, sampling in configs:
+        adaptive = sampling == "adaptive"
+        vkrt_render(args.vkrt, args.scene, os.path.join(args.out, "vkrt-warm-up.exr"), args.width, args.height,
+                    8 if adaptive else 1, sampler, args.seed, coherence, adaptive)
     # Every spp of a round runs each vkrt configuration and then Mitsuba, one after the other,
     # so that a swing of the machine's speed (minutes long here) falls on both sides alike.
     for r in range(args.rounds):
