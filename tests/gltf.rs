@@ -410,8 +410,7 @@ fn directional_light_shines_along_its_node_minus_z() {
 fn a_file_without_lights_gets_the_default_light_of_a_bare_obj() {
     let mut doc = Doc::new();
     let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     let dir = scratch("unlit");
     doc.write_gltf(&dir.join("unlit.gltf"), Storage::External("unlit.bin"));
     std::fs::write(dir.join("unlit.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n").unwrap();
@@ -463,8 +462,7 @@ fn tangents_are_kept_per_triangle_and_flip_handedness_when_mirrored() {
     // Without a normal map, no tangents at all.
     let mut doc = Doc::new();
     let mesh = quad_doc(&mut doc, None, true);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     let path = scratch("tangents").join("plain.glb");
     doc.write_glb(&path);
     assert!(load_scene(&path).unwrap().tangents.is_empty());
@@ -490,16 +488,14 @@ fn unsupported_mode_required_extension_and_missing_bin_are_errors_naming_file_an
     let tris = doc.primitive(&[(json::mesh::Semantic::Positions, p)], None, None, json::mesh::Mode::Triangles);
     let lines = doc.primitive(&[(json::mesh::Semantic::Positions, p)], None, None, json::mesh::Mode::Lines);
     let mesh = doc.mesh(vec![tris, lines]);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.write_gltf(&dir.join("lines.gltf"), Storage::DataUri);
     assert_fails_naming(&dir.join("lines.gltf"), "meshes[0].primitives[1]", "LINES");
 
     // A required extension vkrt does not have.
     let mut doc = Doc::new();
     let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.root.extensions_used = vec!["KHR_draco_mesh_compression".into()];
     doc.root.extensions_required = vec!["KHR_draco_mesh_compression".into()];
     doc.write_gltf(&dir.join("draco.gltf"), Storage::DataUri);
@@ -526,8 +522,7 @@ fn unsupported_mode_required_extension_and_missing_bin_are_errors_naming_file_an
     let tex = doc.root.push(json::Texture { name: None, sampler: None, source: image, extensions: None, extras: Default::default() });
     let m = textured_material(&mut doc, tex);
     let mesh = quad_doc(&mut doc, Some(m), false);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     std::fs::write(dir.join("broken.png"), b"not an image at all").unwrap();
     doc.write_gltf(&dir.join("broken_image.gltf"), Storage::DataUri);
     assert_fails_naming(&dir.join("broken_image.gltf"), "images[0]", "broken.png");
@@ -535,8 +530,7 @@ fn unsupported_mode_required_extension_and_missing_bin_are_errors_naming_file_an
     // A .bin that is not there.
     let mut doc = Doc::new();
     let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.write_gltf(&dir.join("nobin.gltf"), Storage::External("nobin.bin"));
     std::fs::remove_file(dir.join("nobin.bin")).unwrap();
     assert_fails_naming(&dir.join("nobin.gltf"), "buffers[0]", "nobin.bin");
@@ -556,8 +550,7 @@ fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
     // POSITION names an accessor past the end (the crate's validator indexes it unchecked).
     let mut doc = Doc::new();
     let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.root.meshes[0].primitives[0].attributes.insert(Valid(Semantic::Positions), json::Index::new(99));
     doc.write_gltf(&dir.join("position.gltf"), Storage::DataUri);
     assert_fails_naming(&dir.join("position.gltf"), "meshes[0].primitives[0].attributes.POSITION", "accessor 99 does not exist");
@@ -569,8 +562,7 @@ fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
     component(&mut doc, i, ComponentType::F32);
     let prim = doc.primitive(&[(Semantic::Positions, p)], Some(i), None, json::mesh::Mode::Triangles);
     let mesh = doc.mesh(vec![prim]);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.write_gltf(&dir.join("float_indices.gltf"), Storage::DataUri);
     assert_fails_naming(&dir.join("float_indices.gltf"), "meshes[0].primitives[0]", "indices accessor 1 is FLOAT, not UNSIGNED_BYTE or UNSIGNED_SHORT or UNSIGNED_INT");
 
@@ -579,8 +571,7 @@ fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
     let mesh = quad_doc(&mut doc, None, false);
     let uv = doc.root.meshes[mesh.value()].primitives[0].attributes[&Valid(Semantic::TexCoords(0))];
     component(&mut doc, uv, ComponentType::I8);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.write_gltf(&dir.join("byte_uvs.gltf"), Storage::DataUri);
     assert_fails_naming(&dir.join("byte_uvs.gltf"), "meshes[0].primitives[0]", "TEXCOORD_0 accessor 2 is BYTE, not FLOAT or UNSIGNED_BYTE or UNSIGNED_SHORT");
 
@@ -590,8 +581,7 @@ fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
     let uv = doc.vec3(&TRI);
     let prim = doc.primitive(&[(Semantic::Positions, p), (Semantic::TexCoords(0), uv)], None, None, json::mesh::Mode::Triangles);
     let mesh = doc.mesh(vec![prim]);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.write_gltf(&dir.join("vec3_uvs.gltf"), Storage::DataUri);
     assert_fails_naming(&dir.join("vec3_uvs.gltf"), "meshes[0].primitives[0]", "TEXCOORD_0 accessor 1 is Vec3, not Vec2");
 
@@ -602,8 +592,7 @@ fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
     let tex = doc.root.push(json::Texture { name: None, sampler: None, source: image, extensions: None, extras: Default::default() });
     let m = textured_material(&mut doc, tex);
     let mesh = quad_doc(&mut doc, Some(m), false);
-    let n = doc.node(mesh_node(mesh));
-    doc.scene(vec![n]);
+    doc.scene_with_mesh(mesh);
     doc.write_gltf(&dir.join("no_mime.gltf"), Storage::DataUri);
     assert_fails_naming(&dir.join("no_mime.gltf"), "images[0]", "no mimeType");
     doc.root.images[0].buffer_view = None;
@@ -617,8 +606,7 @@ fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
         let p = doc.vec3_sparse(3, Some(&TRI), &[1], &[[2.0, 0.0, 0.0]]);
         let prim = doc.primitive(&[(Semantic::Positions, p)], None, None, json::mesh::Mode::Triangles);
         let mesh = doc.mesh(vec![prim]);
-        let n = doc.node(mesh_node(mesh));
-        doc.scene(vec![n]);
+        doc.scene_with_mesh(mesh);
         edit(&mut doc);
         let path = dir.join(name);
         doc.write_gltf(&path, Storage::DataUri);

@@ -192,6 +192,12 @@ impl Doc {
         self.root.scene = Some(s);
     }
 
+    /// The scene to render: one node showing `mesh`, untransformed.
+    pub fn scene_with_mesh(&mut self, mesh: Index<json::Mesh>) {
+        let n = self.node(mesh_node(mesh));
+        self.scene(vec![n]);
+    }
+
     /// An image held in a buffer view (PNG bytes), and a texture showing it.
     pub fn png_texture(&mut self, png: &[u8]) -> Index<json::Texture> {
         let view = self.view(png);
