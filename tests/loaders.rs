@@ -217,7 +217,7 @@ fn shared_lab_bunny_scale_translation() {
     assert!(s
         .triangles
         .iter()
-        .all(|t| t.n.is_none_or(|n| n.iter().all(|v| (v.length() - 1.0).abs() < 1e-5))));
+        .all(|t| t.n.map_or(true, |n| n.iter().all(|v| (v.length() - 1.0).abs() < 1e-5))));
 }
 
 #[test]

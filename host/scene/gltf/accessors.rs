@@ -21,7 +21,7 @@ pub fn check(root: &json::Root, file: &Path) -> anyhow::Result<()> {
         let Some(buffer) = root.buffers.get(view.buffer.value()) else { continue }; // the validator's to report
         let start = view.byte_offset.map_or(0, |o| o.0);
         let end = start.checked_add(view.byte_length.0);
-        if end.is_none_or(|end| end > buffer.byte_length.0) {
+        if end.map_or(true, |end| end > buffer.byte_length.0) {
             let msg = format!("bytes {start} + {} lie outside buffer {}'s {} bytes", view.byte_length.0, view.buffer.value(), buffer.byte_length.0);
             return Err(at(file, format!("bufferViews[{i}]"), msg));
         }
