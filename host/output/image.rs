@@ -109,7 +109,12 @@ pub fn srgb_to_linear(x: f32) -> f32 {
 }
 
 fn read_pfm(path: &Path) -> Result<Image> {
-    let data = std::fs::read(path)?;
+    pfm_from_bytes(&std::fs::read(path)?)
+}
+
+/// A colour PFM's pixels (Row 0 the top, as every `Image`). The size comes from the file, so it
+/// is checked against the bytes there before any pixel is read or allocated.
+pub fn pfm_from_bytes(data: &[u8]) -> Result<Image> {
     // Header: three whitespace-separated tokens after the magic, then one whitespace byte.
     let mut fields = Vec::new();
     let mut pos = 0;
@@ -133,9 +138,15 @@ fn read_pfm(path: &Path) -> Result<Image> {
     let width: u32 = fields[1].parse().context("PFM width")?;
     let height: u32 = fields[2].parse().context("PFM height")?;
     let scale: f32 = fields[3].parse().context("PFM scale")?;
+    if width == 0 || height == 0 {
+        bail!("PFM size {width}x{height} holds no pixels");
+    }
     let little = scale < 0.0;
-    let count = width as usize * height as usize * 3;
-    let body = data.get(pos..pos + count * 4).ok_or_else(|| anyhow!("truncated PFM data"))?;
+    // Three float32 channels per pixel; a damaged size overflows here rather than in an index.
+    let bytes = (width as usize).checked_mul(height as usize).and_then(|n| n.checked_mul(3 * 4));
+    let body = bytes.and_then(|n| data.get(pos..pos.checked_add(n)?)).ok_or_else(|| {
+        anyhow!("truncated PFM data: {width}x{height} pixels need {} bytes after the header, the file has {}", width as u128 * height as u128 * 12, data.len().saturating_sub(pos))
+    })?;
     let floats: Vec<f32> = body
         .chunks_exact(4)
         .map(|b| {
@@ -152,4 +163,30 @@ fn read_pfm(path: &Path) -> Result<Image> {
         }
     }
     Ok(image)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pfm(header: &str, floats: &[f32]) -> Vec<u8> {
+        let mut out = header.as_bytes().to_vec();
+        out.extend(floats.iter().flat_map(|f| f.to_le_bytes()));
+        out
+    }
+
+    #[test]
+    fn a_pfm_reads_bottom_row_last_and_its_damage_is_an_error() {
+        // 1x2: the bottom row is stored first.
+        let img = pfm_from_bytes(&pfm("PF\n1 2\n-1.0\n", &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0])).unwrap();
+        assert_eq!(img.pixels, vec![[4.0, 5.0, 6.0], [1.0, 2.0, 3.0]]);
+        let err = |bytes: &[u8]| format!("{:#}", pfm_from_bytes(bytes).unwrap_err());
+        assert!(err(&pfm("PF\n1 2\n-1.0\n", &[1.0; 5])).contains("truncated PFM data"));
+        // A size whose byte count overflows: an error, not an overflow or an allocation.
+        let e = err(&pfm("PF\n4294967295 4294967295\n-1.0\n", &[1.0; 3]));
+        assert!(e.contains("4294967295x4294967295") && e.contains("truncated"), "{e}");
+        assert!(err(&pfm("PF\n0 4294967295\n-1.0\n", &[])).contains("no pixels"));
+        assert!(err(b"PF\n1 1").contains("truncated PFM header"));
+        assert!(err(&pfm("Pf\n1 1\n-1.0\n", &[1.0])).contains("not a colour PFM"));
+    }
 }
