@@ -14,7 +14,7 @@ inside the call); and reports how often vkrt and Embree agree on the hit triangl
 The OBJ is read here with the same rules as vkrt's loader (polygons fan-triangulated in file
 order, zero-area triangles dropped), so triangle ids match between the two.
 
-Usage: python3 tools/embree_compare.py [--vkrt target/release/vkrt] [--builder B] [--layout L]
+Usage: python3 tools/embree_compare.py [--vkrt target/release/vkrt] [--builder B] [--layout L (default: vkrt's)]
        [--rays N] [--orders auto given ...] [--rounds R] [--embree-threads T] SCENE.obj...
 With several `--orders` (vkrt trace --order) each ray set is traced once per order, so the
 rows compare inside one run; `--rounds` repeats every timing and keeps the best.
@@ -83,7 +83,9 @@ def pack(o, d):
 
 
 def run_vkrt(vkrt, scene, rays_path, out_path, builder, layout, order):
-    cmd = [vkrt, "trace", scene, "--rays", rays_path, "--out", out_path, "--builder", builder, "--layout", layout, "--order", order]
+    cmd = [vkrt, "trace", scene, "--rays", rays_path, "--out", out_path, "--builder", builder, "--order", order]
+    if layout is not None:
+        cmd += ["--layout", layout]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         sys.exit(f"vkrt trace failed: {res.stderr}")
@@ -116,7 +118,7 @@ def main():
     ap.add_argument("scenes", nargs="+")
     ap.add_argument("--vkrt", default="target/release/vkrt")
     ap.add_argument("--builder", default="reinsertion")
-    ap.add_argument("--layout", default="parent-link")
+    ap.add_argument("--layout", default=None, help="vkrt trace --layout (default: vkrt's own default)")
     ap.add_argument("--rays", type=int, default=1 << 20, help="incoherent rays per scene")
     ap.add_argument("--orders", nargs="+", default=["auto"], help="vkrt trace --order values, one row each")
     ap.add_argument("--rounds", type=int, default=1, help="timings per row; the best is kept")
@@ -131,7 +133,7 @@ def main():
     rng = np.random.default_rng(1)
     tmp = tempfile.mkdtemp(prefix="vkrt-embree-")
     n = args.embree_threads
-    print(f"vkrt: {args.builder} / {args.layout}; Embree 4 via embreex on 1 and on {n} threads")
+    print(f"vkrt: {args.builder} / {args.layout or 'its default layout'}; Embree 4 via embreex on 1 and on {n} threads")
     print(f"| scene | triangles | rays | kind | vkrt order | vkrt M rays/s | Embree 1 thread | Embree {n} threads | "
           f"vkrt / Embree {n} threads | nodes/ray | tris/ray | same prim |")
     print("|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|")

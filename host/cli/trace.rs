@@ -2,9 +2,11 @@
 //! (N, 8) and hits go to an `.npy` structured array (format in `output::npy`), both streamed in
 //! batches of [`FILE_BATCH`] rays so that files of any size need bounded memory.
 
-use crate::accel::LayoutKind;
+use crate::accel::{multi_order, LayoutKind};
 use crate::bvh::{BuildConfig, BuilderKind};
+use crate::gpu::TexelFormat;
 use crate::gpu_abi::constants::PRIM_NONE;
+use crate::gpu_abi::GpuNode;
 use crate::output::npy::{HitWriter, RayReader};
 use crate::prepare::{build_bvh, GpuBvh, PrepareOptions};
 use crate::query::{RayOrder, RayQuery};
@@ -30,9 +32,11 @@ pub struct TraceArgs {
     /// BVH builder.
     #[arg(long, value_enum, default_value_t = BuilderKind::default())]
     pub builder: BuilderKind,
-    /// BVH layout the shader walks.
-    #[arg(long, value_enum, default_value_t = LayoutKind::Threaded)]
-    pub layout: LayoutKind,
+    /// BVH layout the shader walks [default: multi-order, the fastest measured on both camera
+    /// and incoherent rays (BENCHMARKS.md); threaded where six orders of the tree might not fit
+    /// the device's texel buffers].
+    #[arg(long, value_enum)]
+    pub layout: Option<LayoutKind>,
     /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
     /// triangles (a room's walls) otherwise join, tested by every ray before its walk.
     #[arg(long)]
@@ -64,12 +68,29 @@ pub struct TraceReport {
     pub device_seconds: Option<f64>,
 }
 
+/// The layout `vkrt trace` walks unless `--layout` says: multi-order, which traced both camera
+/// and incoherent rays fastest on lavapipe (Conference, Sibenik, Sponza: 1.05-1.37x threaded's
+/// rays/s, medians of 5 alternating rounds, BENCHMARKS.md), as long as its six orders of the
+/// tree fit one texel buffer of the device (`max_texel_buffer_elements` 16-byte texels): a
+/// binary tree over `triangles` has at most 2 triangles - 1 nodes. Beyond that (about 5.6 M
+/// triangles on lavapipe) threaded, which needs a sixth of it.
+pub fn default_layout(triangles: usize, max_texel_buffer_elements: u32) -> LayoutKind {
+    let texels_per_node = (std::mem::size_of::<GpuNode>() as u64).div_ceil(TexelFormat::Rgba32Uint.bytes());
+    let worst_nodes = 2 * triangles.max(1) as u64 - 1;
+    if multi_order::ORDERS as u64 * worst_nodes * texels_per_node <= u64::from(max_texel_buffer_elements) {
+        LayoutKind::MultiOrder
+    } else {
+        LayoutKind::Threaded
+    }
+}
+
 pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let mut reader = RayReader::open(&args.rays)?;
     let scene = crate::scene::load_scene(&args.scene)?;
-    let options = PrepareOptions { builder: args.builder, layout: args.layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
-    let (flat, build_times) = build_bvh(&scene, &options)?;
     let ctx = args.device.context()?;
+    let layout = args.layout.unwrap_or_else(|| default_layout(scene.triangles.len(), ctx.info.max_texel_buffer_elements));
+    let options = PrepareOptions { builder: args.builder, layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
+    let (flat, build_times) = build_bvh(&scene, &options)?;
     let bvh = GpuBvh::upload(&ctx, &flat)?;
     let mut query = RayQuery::new(&ctx, &bvh)?;
     query.order = args.order;
@@ -107,11 +128,31 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
         report.reordered,
         ctx.info.name,
         args.builder.name(),
-        args.layout.name(),
+        layout.name(),
         report.rays as f64 / report.gpu_seconds.max(1e-9) / 1e6,
         build_times.bvh() * 1e3,
         per_ray(report.nodes_visited),
         per_ray(report.tris_tested)
     );
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_layout_is_multi_order_while_six_orders_fit_the_texel_buffer() {
+        // lavapipe: 2^27 texels of 16 bytes; a 32-byte node is two, six orders of 2n - 1 nodes.
+        let lavapipe = 1u32 << 27;
+        assert_eq!(default_layout(0, lavapipe), LayoutKind::MultiOrder);
+        assert_eq!(default_layout(331_179, lavapipe), LayoutKind::MultiOrder);
+        // 12 (2n - 1) <= 2^27 holds up to n = 5,592,405 and fails past it.
+        assert_eq!(default_layout(5_592_405, lavapipe), LayoutKind::MultiOrder);
+        assert_eq!(default_layout(5_592_406, lavapipe), LayoutKind::Threaded);
+        assert_eq!(default_layout(10_000_000, lavapipe), LayoutKind::Threaded);
+        // Vulkan's minimum limit, 65,536 texels: 12 (2n - 1) <= 65,536 up to n = 2,731.
+        assert_eq!(default_layout(2_731, 65_536), LayoutKind::MultiOrder);
+        assert_eq!(default_layout(2_732, 65_536), LayoutKind::Threaded);
+    }
 }
