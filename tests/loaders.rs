@@ -851,3 +851,36 @@ fn obj_files_parsed_in_chunks_keep_order_indices_materials_and_the_first_error()
     let path = write_files("chunked-both", &[("big.obj", bad.join("\n").as_bytes()), ("m.mtl", mtl)]);
     assert_located(&path, &format!("line {}:", early + 1));
 }
+
+/// Scene inputs that are not regular files are refused by name, before they are opened or read
+/// (issue 45: an `mtllib /dev/zero` was read until the kernel killed vkrt; a FIFO would block).
+#[test]
+fn inputs_that_are_not_regular_files_are_errors_naming_them() {
+    // A device as the material library: an error naming it, not a read without end.
+    let obj = write_files("device_mtllib", &[("scene.obj", b"mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")]);
+    let (text, input) = load_err(&obj);
+    assert_eq!(input.file, Path::new("/dev/zero"), "{text}");
+    assert!(text.contains("a character device is not a regular file"), "{text}");
+
+    // A FIFO as the scene itself: refused without opening it (opening would wait for a writer).
+    let dir = obj.parent().unwrap();
+    let fifo = dir.join("pipe.obj");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+    assert!(made.success(), "mkfifo {}", fifo.display());
+    let (text, input) = load_err(&fifo);
+    assert_eq!(input.file, fifo, "{text}");
+    assert!(text.contains("a FIFO is not a regular file"), "{text}");
+
+    // The same FIFO as an environment map.
+    let map = dir.join("sky.hdr");
+    std::fs::rename(&fifo, &map).unwrap();
+    let err = vkrt::scene::envmap::EnvMap::load(&map).expect_err("a FIFO is no environment map");
+    assert!(format!("{err:#}").contains("sky.hdr: cannot read it: a FIFO is not a regular file"), "{err:#}");
+
+    // A directory as a lab YAML scene's mesh.
+    std::fs::create_dir_all(dir.join("mesh.obj")).unwrap();
+    let yaml = dir.join("scene.yaml");
+    std::fs::write(&yaml, "Models:\n  - Mesh: mesh.obj\n").unwrap();
+    let (text, _) = load_err(&yaml);
+    assert!(text.contains("mesh.obj") && text.contains("a directory is not a regular file"), "{text}");
+}

@@ -33,6 +33,8 @@ impl EnvMap {
         if !matches!(ext.as_deref(), Some("hdr" | "exr")) {
             return Err(err("an environment map must be a Radiance .hdr or OpenEXR .exr file".into()).into());
         }
+        // Not opened unless it is a regular file: a FIFO would block the open (input_file).
+        super::input_file::regular_file(path).map_err(err)?;
         let img = image::ImageReader::open(path)
             .map_err(|e| err(format!("cannot read the environment map: {e}")))?
             .with_guessed_format()

@@ -19,6 +19,7 @@ use yaml_rust2::{Yaml, YamlLoader};
 use super::assemble::{default_light, finish_scene, push_triangles};
 use super::obj::load_obj_meshes;
 use super::{Camera, Light, Material, Scene, Triangle};
+use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
 use crate::error::InputError;
 
 const TOP_KEYS: &[&str] = &[
@@ -39,8 +40,7 @@ const COMPLEX_MODEL_KEYS: &[&str] = &["Mesh"];
 
 /// Loads a lab YAML scene with the meshes it names.
 pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
-    let bytes =
-        std::fs::read(path).map_err(|e| InputError::new(path, None, format!("cannot read the file: {e}")))?;
+    let bytes = read_bounded(path, MAX_DESCRIPTION_BYTES).map_err(|e| InputError::new(path, None, e))?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
         let line = bytes.get(..e.valid_up_to()).map_or(1, |b| b.iter().filter(|&&c| c == b'\n').count() + 1);
         InputError::at_line(path, line, "not UTF-8 text")
@@ -241,9 +241,10 @@ impl Lab<'_> {
     /// A file named relative to the YAML's folder, which must exist.
     fn existing_file(&self, y: &Yaml, key: &str) -> anyhow::Result<PathBuf> {
         let p = self.dir.join(self.string(y, key)?);
-        if !p.is_file() {
+        if !p.exists() {
             return Err(self.err(key, format!("file {} not found", p.display())));
         }
+        regular_file(&p).map_err(|e| self.err(key, format!("{}: {e}", p.display())))?;
         Ok(p)
     }
 

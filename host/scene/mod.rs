@@ -8,6 +8,7 @@ pub mod assemble;
 pub mod camera;
 pub mod envmap;
 pub mod gltf;
+pub mod input_file;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use super::assemble::{default_light, finish_scene, push_triangles};
 use super::obj_geometry::{self, finite, words, MaterialLine, NO_USEMTL};
 use super::{Material, Scene, Triangle};
+use super::input_file::{read_bounded, MAX_DESCRIPTION_BYTES, MAX_GEOMETRY_BYTES};
 use crate::error::InputError;
 
 /// The triangles and materials of one OBJ file, before they join a [`Scene`].
@@ -61,8 +62,7 @@ pub fn load_obj(path: &Path) -> anyhow::Result<Scene> {
 /// (the lab YAML's `Models` assign materials by name). Otherwise materials come from the
 /// `mtllib` files; a missing MTL file is a warning and the default material is used.
 pub fn load_obj_meshes(path: &Path, material_override: Option<u32>) -> anyhow::Result<ObjMesh> {
-    let bytes =
-        std::fs::read(path).map_err(|e| InputError::new(path, None, format!("cannot read the file: {e}")))?;
+    let bytes = read_bounded(path, MAX_GEOMETRY_BYTES).map_err(|e| InputError::new(path, None, e))?;
     let (text, encoding_warning) = decode_text(path, &bytes)?;
     let mut chunks = obj_geometry::census(path, &text);
     let material_lines: Vec<MaterialLine> = chunks.census.iter_mut().flat_map(|c| std::mem::take(&mut c.material_lines)).collect();
@@ -169,10 +169,14 @@ fn decode_text<'a>(path: &Path, bytes: &'a [u8]) -> anyhow::Result<(std::borrow:
 /// What `tobj::load_mtl_buf` returns: the materials and a name -> index map.
 type MtlLib = <tobj::MTLLoadResult as IntoIterator>::Item;
 
-/// Reads and checks an MTL file, with a warning if it is not UTF-8. `Ok(None)`: it cannot be
-/// read (the caller warns).
+/// Reads and checks an MTL file, with a warning if it is not UTF-8. `Ok(None)`: there is no
+/// such file (the caller warns); something there that is not a regular file, or too large a
+/// file, is an error (`input_file`).
 fn read_mtl(path: &Path) -> anyhow::Result<Option<(MtlLib, Option<String>)>> {
-    let Ok(bytes) = std::fs::read(path) else { return Ok(None) };
+    if std::fs::metadata(path).is_err() {
+        return Ok(None);
+    }
+    let bytes = read_bounded(path, MAX_DESCRIPTION_BYTES).map_err(|e| InputError::new(path, None, e))?;
     let (text, warning) = decode_text(path, &bytes)?;
     let clean = sanitize_mtl(path, &text)?;
     let loaded = tobj::load_mtl_buf(&mut clean.as_bytes())

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use base64::Engine as _;
 
 use super::at;
+use crate::scene::input_file::{read_bounded, MAX_GEOMETRY_BYTES};
 use crate::scene::LoadStats;
 
 /// Loads every buffer in `buffers[]` order; each read file is recorded in `stats`.
@@ -52,7 +53,7 @@ pub fn uri_bytes(uri: &str, file: &Path, dir: &Path, loc: &str, stats: &mut Load
             .map_err(|e| at(file, loc, format!("data URI is not valid base64: {e}")));
     }
     let path = uri_path(dir, uri);
-    let bytes = std::fs::read(&path).map_err(|e| at(file, loc, format!("cannot read {}: {e}", path.display())))?;
+    let bytes = read_bounded(&path, MAX_GEOMETRY_BYTES).map_err(|e| at(file, loc, format!("{}: {e}", path.display())))?;
     stats.read_input(&path);
     Ok(bytes)
 }

@@ -35,6 +35,7 @@ use glam::Vec3;
 use super::assemble::{default_light, finish_scene};
 use super::Scene;
 use crate::error::InputError;
+use crate::scene::input_file::{read_bounded, MAX_GEOMETRY_BYTES};
 
 pub use extensions::SUPPORTED_EXTENSIONS;
 
@@ -47,8 +48,7 @@ fn at(file: &Path, location: impl Into<String>, message: impl Into<String>) -> a
 /// lights, and for a file with neither lights nor emissive materials the same default light
 /// as a bare OBJ.
 pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
-    let bytes =
-        std::fs::read(path).map_err(|e| InputError::new(path, None, format!("cannot read the file: {e}")))?;
+    let bytes = read_bounded(path, MAX_GEOMETRY_BYTES).map_err(|e| InputError::new(path, None, e))?;
     let mut scene = Scene::default();
     scene.stats.read_input(path);
     check_glb_header(&bytes, path)?;
