@@ -27,6 +27,10 @@ The two other Cornell boxes of issue 17, with a Mitsuba reference made by the to
       --reference target/bench/refs/mirror-256.exr --make-reference 8192
   (then the same without --make-reference, with --spp ...; CornellBox-Sphere: eye -0.01 0.795 4.2547464,
   target -0.01 0.795 -0.025). Materials map onto Mitsuba's as `mitsuba_bsdf` says.
+Scenes whose camera is not the scene file's own: `--vkrt-camera` gives vkrt --eye, --target,
+--up and --fov as well; `--envmap FILE` lights both renderers with that map too (vkrt's
+--envmap, Mitsuba's `envmap` emitter with the identity transform: the same convention).
+tools/realistic_ladder.py runs it so on Sponza, Sibenik, Conference, the dragon and the Buddha.
 Only the Python standard library is needed; matplotlib adds the plot, mitsuba adds its curve
 (PyPI `mitsuba` and `numpy`, variant llvm_ad_rgb, needs libLLVM 19: Debian 12 `libllvm19`), and
 `flip-evaluator` (PyPI; with mitsuba, whose EXR reader it uses) adds the perceptual metric: mean HDR-FLIP against the reference, for
@@ -61,10 +65,12 @@ def coherence_name(coherence):
     return "coherence 1" if n == "1" else f"coherence {n} " + (f"scattered {block}" if block else "in rows")
 
 
-def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence, adaptive=False):
+def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence, adaptive=False, extra=()):
+    """(seconds, pipeline-creation seconds or None) of one vkrt render; `extra`: more flags
+    (vkrt_scene_flags: the camera and environment map, where given)."""
     cmd = [binary, "render", scene, "-o", out, "--integrator", "path", "--width", str(width),
            "--height", str(height), "--spp", str(spp), "--sampler", sampler, "--seed", str(seed), "-v"] \
-        + coherence_flags(coherence) + (["--adaptive"] if adaptive else [])
+        + coherence_flags(coherence) + (["--adaptive"] if adaptive else []) + list(extra)
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         sys.exit(f"vkrt failed: {' '.join(cmd)}\n{res.stderr}")
@@ -74,6 +80,19 @@ def vkrt_render(binary, scene, out, width, height, spp, sampler, seed, coherence
     # The share of that time spent creating the pipeline (older binaries do not say).
     p = re.search(r"pipeline creation ([0-9.]+) s", res.stderr)
     return float(m.group(1)), float(p.group(1)) if p else None
+
+
+def vkrt_scene_flags(args):
+    """vkrt's flags for what this tool gives both renderers: the camera with --vkrt-camera
+    (otherwise vkrt uses its scene's own, which --eye etc. must then match) and --envmap."""
+    flags = []
+    if args.vkrt_camera:
+        vec = lambda v: ",".join(repr(float(x)) for x in v)
+        # `--eye=-1,2,3`: a value that starts with "-" must be attached to its flag.
+        flags += [f"--eye={vec(args.eye)}", f"--target={vec(args.target)}", f"--up={vec(args.up)}", f"--fov={float(args.fov)!r}"]
+    if args.envmap:
+        flags += ["--envmap", args.envmap]
+    return flags
 
 
 def flip_hdr(image, reference):
@@ -210,7 +229,10 @@ def mitsuba_bsdf(m):
     return {"type": "twosided", "bsdf": bsdf}
 
 
-def mitsuba_scene(mi, obj, mtl, camera, width, height, work):
+def mitsuba_scene(mi, obj, mtl, camera, width, height, work, envmap=None):
+    """Mitsuba's scene: the OBJ's parts with their MTL materials (area emitters where Ke > 0),
+    and with `envmap` an `envmap` emitter of that file, identity transform (vkrt's --envmap
+    follows Mitsuba's lat-long convention)."""
     parts = split_obj_by_material(obj, work)
     mats = read_mtl(mtl)
     scene = {
@@ -224,6 +246,8 @@ def mitsuba_scene(mi, obj, mtl, camera, width, height, work):
             "sampler": {"type": "independent"},
         },
     }
+    if envmap:
+        scene["envmap"] = {"type": "envmap", "filename": envmap}
     for name, (path, with_normals) in parts.items():
         m = mats.get(name, {})
         shape = {"type": "obj", "filename": path, "face_normals": not with_normals, "bsdf": mitsuba_bsdf(m)}
@@ -252,7 +276,7 @@ class MitsubaBench:
         self.mi, self.np, self.seed = mi, np, args.seed
         self.ref = None if args.make_reference else np.array(mi.Bitmap(reference_path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
         self.scene = mitsuba_scene(mi, args.obj, args.mtl, {"eye": args.eye, "target": args.target, "up": args.up, "fov": args.fov},
-                                   args.width, args.height, args.out)
+                                   args.width, args.height, args.out, getattr(args, "envmap", None))
         mi.render(self.scene, spp=1, seed=999)  # warm-up: JIT compilation
 
     def make_reference(self, spp, path, batch=512):
@@ -348,7 +372,19 @@ def main():
     ap.add_argument("--target", type=float, nargs=3, default=[278, 273, 0])
     ap.add_argument("--up", type=float, nargs=3, default=[0, 1, 0])
     ap.add_argument("--fov", type=float, default=39.3077)
+    ap.add_argument("--vkrt-camera", action="store_true",
+                    help="give vkrt the camera above too (--eye, --target, --up, --fov) instead of its scene's own")
+    ap.add_argument("--envmap", metavar="FILE",
+                    help="light both renderers with this environment map as well (vkrt --envmap, Mitsuba's envmap emitter)")
     args = ap.parse_args()
+    if not args.replot:
+        # The inputs this run reads, named up front rather than in a failed render's output.
+        needed = [("--envmap", args.envmap)] if args.envmap else []
+        needed += [("--scene", args.scene), ("--reference", args.reference)] if not args.make_reference else []
+        needed += [("--obj", args.obj), ("--mtl", args.mtl)] if args.make_reference or not args.no_mitsuba else []
+        for flag, path in needed:
+            if not os.path.exists(path):
+                sys.exit(f"{flag}: no such file: {path}")
     os.makedirs(args.out, exist_ok=True)
     if args.replot:
         machine_txt = os.path.join(os.path.dirname(args.replot), "machine.txt")
@@ -394,7 +430,7 @@ def main():
     for coherence, sampler, sampling in configs:
         adaptive = sampling == "adaptive"
         vkrt_render(args.vkrt, args.scene, os.path.join(args.out, "vkrt-warm-up.exr"), args.width, args.height,
-                    8 if adaptive else 1, sampler, args.seed, coherence, adaptive)
+                    8 if adaptive else 1, sampler, args.seed, coherence, adaptive, vkrt_scene_flags(args))
     # Every spp of a round runs each vkrt configuration and then Mitsuba, one after the other,
     # so that a swing of the machine's speed (minutes long here) falls on both sides alike.
     for r in range(args.rounds):
@@ -405,7 +441,8 @@ def main():
                     continue
                 name = f"{sampler} {coherence_name(coherence)}" + (" adaptive" if adaptive else "")
                 img = os.path.join(args.out, f"vkrt-{sampler}-c{coherence.replace('/', 'x')}{'-adaptive' if adaptive else ''}-{spp}.exr")
-                secs, pipeline = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive)
+                secs, pipeline = vkrt_render(args.vkrt, args.scene, img, args.width, args.height, spp, sampler, args.seed, coherence, adaptive,
+                                             vkrt_scene_flags(args))
                 rel = vkrt_compare(args.vkrt, img, args.reference)
                 record(r, f"vkrt {name} (lavapipe)", f"vkrt {name:24s}", spp, secs, rel, flip_hdr(img, args.reference), pipeline)
             if mitsuba:
