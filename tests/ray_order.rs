@@ -77,3 +77,31 @@ fn every_order_gives_the_same_hits() {
     }
     common::assert_no_validation_messages(&ctx);
 }
+
+/// The warm-up dispatch (`RayQuery::warm_up`, which `vkrt trace` and `vkrt bvh` run first so
+/// that lavapipe's shader compile is not timed) is neither timed nor counted, and leaves the
+/// query tracing the same hits as a query without it.
+#[test]
+fn the_warm_up_is_neither_timed_nor_counted() {
+    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
+    let (lo, hi) = scene.triangles.iter().flat_map(|t| t.p).fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), p| (l.min(p), h.max(p)));
+    let rays = incoherent_rays(20_000, lo, hi, 5);
+    let ctx = gpu_context();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions::default()).unwrap();
+    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+    let cold = RayQuery::new(&ctx, &gpu.bvh).unwrap();
+    let cold_hits = cold.trace(&rays, false).unwrap();
+    let mut warm = RayQuery::new(&ctx, &gpu.bvh).unwrap();
+    warm.order = RayOrder::Sorted;
+    warm.warm_up().unwrap();
+    assert_eq!(warm.rays_reordered(), 0, "the warm-up's rays were counted");
+    if let Some(s) = warm.device_seconds() {
+        assert_eq!(s, 0.0, "the warm-up's dispatch was timed");
+    }
+    assert!(warm.trace(&rays, false).unwrap() == cold_hits, "a query traces other hits after its warm-up");
+    assert_eq!(warm.rays_reordered(), rays.len() as u64);
+    if let Some(s) = warm.device_seconds() {
+        assert!(s > 0.0, "the traced batch was not timed");
+    }
+    common::assert_no_validation_messages(&ctx);
+}

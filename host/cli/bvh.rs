@@ -141,8 +141,7 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
             let flat = accel::flatten(&tree, &scene.triangles, layout)?;
             let gpu = GpuBvh::upload(ctx, &flat)?;
             let query = RayQuery::new(ctx, &gpu)?;
-            // One untimed warm-up batch: the first dispatch pays one-off driver costs.
-            query.trace(&primary[..primary.len().min(1024)], false)?;
+            query.warm_up()?;
             let (p, hits) = measure(&query, &primary, false)?;
             let (sh, _) = measure(&query, &shadow, true)?;
             let (d, _) = measure(&query, &diffuse, false)?;

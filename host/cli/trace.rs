@@ -94,6 +94,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let bvh = GpuBvh::upload(&ctx, &flat)?;
     let mut query = RayQuery::new(&ctx, &bvh)?;
     query.order = args.order;
+    query.warm_up()?;
     let mut writer = HitWriter::create(&args.output, reader.count())?;
     let mut report = TraceReport::default();
     loop {
