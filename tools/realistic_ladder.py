@@ -161,7 +161,8 @@ def write_if_changed(path, text):
 
 
 def prepare(name, spec):
-    """Writes PREPARED/name/name.obj and .mtl; returns (obj, mtl, triangles written)."""
+    """Writes PREPARED/name/name.obj and .mtl; returns (obj, mtl, triangles written, zero-area
+    triangles left out)."""
     verts, tris = read_obj(spec["src"])
     keep = vkrt_keeps(verts, tris)
     tris = [t for t, k in zip(tris, keep) if k]
