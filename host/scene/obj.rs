@@ -170,10 +170,10 @@ fn decode_text<'a>(path: &Path, bytes: &'a [u8]) -> anyhow::Result<(std::borrow:
 type MtlLib = <tobj::MTLLoadResult as IntoIterator>::Item;
 
 /// Reads and checks an MTL file, with a warning if it is not UTF-8. `Ok(None)`: there is no
-/// such file (the caller warns); something there that is not a regular file, or too large a
-/// file, is an error (`input_file`).
+/// such file (the caller warns); a path that exists but is not a regular file, is too large
+/// or cannot be read is an error naming it (`input_file`), as the OBJ itself would be.
 fn read_mtl(path: &Path) -> anyhow::Result<Option<(MtlLib, Option<String>)>> {
-    if std::fs::metadata(path).is_err() {
+    if !path.exists() {
         return Ok(None);
     }
     let bytes = read_bounded(path, MAX_DESCRIPTION_BYTES).map_err(|e| InputError::new(path, None, e))?;
