@@ -16,9 +16,10 @@
 //! resumes and merges, but not bit-identically with one rendered whole in format 5). Then
 //! (version 3) per_pixel u32 (1: adaptive run) and the adaptive block rates as a u32 count and
 //! that many u32, then (version 4) the sky override string and the inputs as a u32 count and
-//! that many (path string, hash u64). Versions 1 to 3 stored only an FNV-1a hash of the scene
-//! file itself, in the slot where version 4 stores 0; they still read, with that weaker
-//! identity ([`Identity::SceneFile`]). Version 8 stores `zsobol_log2` after `coherence_block`
+//! that many (path string, hash u64), the camera and the resume defaults. Versions 1 to 3
+//! stored only an FNV-1a hash of the scene file itself, in the slot where version 4 stores 0;
+//! they still read, with that weaker identity ([`Identity::SceneFile`]), and such a run written
+//! again (resumed or merged) keeps the hash in the slot and writes the identity block empty. Version 8 stores `zsobol_log2` after `coherence_block`
 //! (read as 0 from older files, whose samplers did not read it).
 //! Written to a temporary file beside the target and renamed into place, so a crash never
 //! leaves a half-written checkpoint under the real name.
@@ -391,25 +392,29 @@ impl Checkpoint {
         for r in &self.accum.rates {
             out.extend_from_slice(&r.to_le_bytes());
         }
-        if let Identity::Inputs { inputs, sky, camera } = &s.identity {
-            put_str(&mut out, sky);
-            out.extend_from_slice(&(inputs.len() as u32).to_le_bytes());
-            for i in inputs {
-                put_str(&mut out, &i.path);
-                out.extend_from_slice(&i.hash.to_le_bytes());
-            }
-            for c in camera {
-                out.extend_from_slice(&c.to_le_bytes());
-            }
-            let r = &s.resume;
-            for text in [&r.output, &r.builder, &r.layout] {
-                put_str(&mut out, text);
-            }
-            // 0 and NaN: not given.
-            out.extend_from_slice(&r.spp.unwrap_or(0).to_le_bytes());
-            for x in [r.seconds, r.target_relmse] {
-                out.extend_from_slice(&x.unwrap_or(f64::NAN).to_le_bytes());
-            }
+        // A run identified by the scene file's hash (read from format 3 or older) writes the
+        // block empty: the hash in the slot above says which identity holds.
+        let (sky, inputs, camera) = match &s.identity {
+            Identity::Inputs { inputs, sky, camera } => (sky.as_str(), inputs.as_slice(), *camera),
+            Identity::SceneFile { .. } => ("", &[][..], [0.0; CAMERA_NUMBERS]),
+        };
+        put_str(&mut out, sky);
+        out.extend_from_slice(&(inputs.len() as u32).to_le_bytes());
+        for i in inputs {
+            put_str(&mut out, &i.path);
+            out.extend_from_slice(&i.hash.to_le_bytes());
+        }
+        for c in camera {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+        let r = &s.resume;
+        for text in [&r.output, &r.builder, &r.layout] {
+            put_str(&mut out, text);
+        }
+        // 0 and NaN: not given.
+        out.extend_from_slice(&r.spp.unwrap_or(0).to_le_bytes());
+        for x in [r.seconds, r.target_relmse] {
+            out.extend_from_slice(&x.unwrap_or(f64::NAN).to_le_bytes());
         }
         out
     }
@@ -496,7 +501,9 @@ impl Checkpoint {
             for c in &mut camera[..stored] {
                 *c = f32::from_bits(r.u32("camera")?);
             }
-            Identity::Inputs { inputs, sky, camera }
+            // A hash in the old slot: a run first saved in format 3 or older, written again
+            // (resumed or merged) with its weaker identity and this block empty.
+            if scene_hash != 0 { Identity::SceneFile { fnv: scene_hash } } else { Identity::Inputs { inputs, sky, camera } }
         } else {
             Identity::SceneFile { fnv: scene_hash }
         };
@@ -749,6 +756,19 @@ mod tests {
         let mut future = sample(3).to_bytes();
         future[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
         assert!(Checkpoint::from_bytes(&future).is_err(), "a newer version was accepted");
+    }
+
+    /// A run read from a format-3 file keeps its weaker identity when written again (what
+    /// `vkrt merge` of two such runs into a .ckpt does): the file reads back as it was written,
+    /// resume defaults included.
+    #[test]
+    fn a_scene_file_identity_round_trips() {
+        let mut c = legacy(4);
+        c.settings.resume.output = "out.exr".into();
+        c.settings.resume.spp = Some(64);
+        let read = Checkpoint::from_bytes(&c.to_bytes()).unwrap();
+        assert_eq!(read.settings, c.settings);
+        assert_eq!(read.accum, c.accum);
     }
 
     #[test]
