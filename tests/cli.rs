@@ -204,3 +204,47 @@ fn bad_coherence_flags_are_refused_before_any_work() {
         std::fs::remove_file(&out).unwrap();
     }
 }
+
+/// `--envmap` replaces the default light that a file without lights gets, whichever loader read
+/// it (issue 45, bugs 2 and 3): a glTF file (whose loader did not record its default light, so
+/// the map lit the scene beside it) and a bare OBJ room (whose default point light the upload
+/// dropped while the shader variant kept its code). `-v` lists the variant's features and why.
+#[test]
+fn envmap_replaces_the_default_light_of_every_loader() {
+    let dir = common::scratch_dir("cli_envmap_default_light");
+    // One triangle, no lights, no materials.
+    let tri: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|x| x.to_le_bytes()).collect();
+    std::fs::write(dir.join("unlit.bin"), &tri).unwrap();
+    let gltf = r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "buffers": [{"uri": "unlit.bin", "byteLength": 36}], "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}]}"#;
+    std::fs::write(dir.join("unlit.gltf"), gltf).unwrap();
+    // A closed box whose faces turn inward (by their normals): the loader sees a room and
+    // gives it a point light under the ceiling.
+    let mut room = String::new();
+    for v in [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1], [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]] {
+        room += &format!("v {} {} {}\n", v[0], v[1], v[2]);
+    }
+    room += "vn 0 0 1\nvn 0 0 -1\nvn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\n";
+    for (face, n) in [([1, 2, 3, 4], 1), ([5, 8, 7, 6], 2), ([1, 4, 8, 5], 3), ([2, 6, 7, 3], 4), ([1, 5, 6, 2], 5), ([4, 3, 7, 8], 6)] {
+        room += &format!("f {}//{n} {}//{n} {}//{n} {}//{n}\n", face[0], face[1], face[2], face[3]);
+    }
+    std::fs::write(dir.join("room.obj"), room).unwrap();
+    let map = common::repo_path("tests/refs/envmap-sun.exr").display().to_string();
+    for (scene, light) in [("unlit.gltf", "directional lights"), ("room.obj", "point lights")] {
+        let path = dir.join(scene).display().to_string();
+        let out = dir.join(format!("{scene}.png")).display().to_string();
+        let plain = vkrt(&["render", &path, "-v", "--no-cache", "--width", "8", "--height", "8", "-o", &out]);
+        let text = stderr(&plain);
+        assert!(plain.status.success(), "{scene}: {text}");
+        let line = |text: &str| text.lines().find(|l| l.trim_start().starts_with(light)).map(str::to_string);
+        let on = line(&text).unwrap_or_else(|| panic!("{scene}: no {light} line in -v:\n{text}"));
+        assert!(on.contains(" on "), "{scene} without a map is lit by its default light: {on}");
+        let lit = vkrt(&["render", &path, "-v", "--no-cache", "--envmap", &map, "--width", "8", "--height", "8", "-o", &out]);
+        let text = stderr(&lit);
+        assert!(lit.status.success(), "{scene}: {text}");
+        let off = line(&text).unwrap_or_else(|| panic!("{scene}: no {light} line in -v:\n{text}"));
+        assert!(off.contains(" off ") && off.contains("replaces the default light"), "{scene} under a map: {off}");
+    }
+}

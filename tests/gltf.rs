@@ -418,6 +418,8 @@ fn a_file_without_lights_gets_the_default_light_of_a_bare_obj() {
     let obj = load_scene(&dir.join("unlit.obj")).unwrap();
     assert_eq!(gltf.lights.len(), 1);
     assert_eq!(gltf.lights, obj.lights);
+    // Recorded, so that --envmap replaces it (tests/cli.rs) as it does the OBJ's.
+    assert!(gltf.stats.default_light && obj.stats.default_light);
     assert_eq!(gltf.ambient, obj.ambient);
     assert_eq!(gltf.camera, obj.camera);
     // The primitive has no material: the spec's default (white, metallic 1, roughness 1).

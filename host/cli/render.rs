@@ -422,7 +422,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let sky = super::sky::sky_text(&args.sky, &args.envmap, stored_sky)?;
     let env = super::sky::apply(&sky, &mut scene)?;
     scene.camera = args.camera.choose(&scene, stored_camera.unwrap_or(scene.camera))?;
-    let info = prepared.info().with_view(&scene.camera, &scene.sky);
+    let mut info = prepared.info().with_view(&scene.camera, &scene.sky);
+    if env.is_some() && scene.stats.default_light {
+        // The map replaces the default light (set_environment, below): so does the variant.
+        info.features = info.features.without_default_light();
+    }
     let t1 = Instant::now();
     let arrays = prepared.arrays()?;
     let mut gpu = GpuScene::upload_arrays(&ctx, &arrays, &info)?;

@@ -107,6 +107,17 @@ impl Features {
         self
     }
 
+    /// The same with the light features off, for a scene whose only light is the default one
+    /// its loader added (`LoadStats::default_light`, `scene::assemble::light_if_unlit`) when an
+    /// environment map replaces it (`GpuScene::set_environment` drops it from the lights): the
+    /// shader need not carry code for a light it never meets.
+    pub fn without_default_light(mut self) -> Self {
+        for entry in self.entries.iter_mut().filter(|e| [POINT, DIRECTIONAL, SPOT, CONE].contains(&e.0)) {
+            (entry.1, entry.2) = (false, "the environment map replaces the default light".to_string());
+        }
+        self
+    }
+
     /// Whether every feature on is one the lean path tracer keeps ([`LEAN_KEEPS`]): then the
     /// render runs the lean build, with the others compiled out (host/pipeline/variants.rs).
     pub fn lean(&self) -> bool {

@@ -57,6 +57,25 @@ pub fn finish_scene(scene: &mut Scene, file: &Path, cameras: Vec<Camera>) -> any
     Ok(())
 }
 
+/// The ambient term that comes with the default light where the file names none: faces
+/// turned away from the light are not pitch black.
+pub const DEFAULT_AMBIENT: Vec3 = Vec3::splat(0.05);
+
+/// Every loader's rule for a scene whose file lights nothing (no light, no emitting material),
+/// which would render black: it gets [`default_light`] and `ambient`, and
+/// `LoadStats::default_light` says so, so that an environment map given on the command line
+/// replaces both (`prepare::GpuScene::set_environment`, `prepare::Features::without_default_light`).
+/// Returns whether it lit the scene.
+pub fn light_if_unlit(scene: &mut Scene, ambient: Vec3) -> bool {
+    if !scene.lights.is_empty() || !scene.emissive_triangles().is_empty() {
+        return false;
+    }
+    scene.lights.push(default_light(scene));
+    scene.stats.default_light = true;
+    scene.ambient = ambient;
+    true
+}
+
 /// The light a scene without any gets. Inside a room (`LoadStats::interior`), a point light
 /// below the ceiling above the bounds' centre (a directional light would not get in); else a
 /// directional light from over the camera's shoulder (up and behind the eye), so that what the

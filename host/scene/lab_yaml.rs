@@ -16,7 +16,7 @@ use glam::Vec3;
 use yaml_rust2::yaml::Hash;
 use yaml_rust2::{Yaml, YamlLoader};
 
-use super::assemble::{default_light, finish_scene, push_triangles};
+use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT};
 use super::obj::load_obj_meshes;
 use super::{Camera, Light, Material, Scene, Triangle};
 use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
@@ -113,12 +113,9 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
         scene.sky = crate::scene::Sky::CubeMap { first_texture, scale: Vec3::ONE };
     }
     scene.ambient = ambient.unwrap_or(Vec3::ZERO);
-    if scene.lights.is_empty() && scene.emissive_triangles().is_empty() {
+    if light_if_unlit(&mut scene, ambient.unwrap_or(DEFAULT_AMBIENT)) {
         let msg = "no lights and no emitting material; added a directional light over the camera's shoulder";
         scene.stats.warn(InputError::new(path, None, msg).to_string());
-        scene.lights.push(default_light(&scene));
-        scene.stats.default_light = true;
-        scene.ambient = ambient.unwrap_or(Vec3::splat(0.05));
     }
     Ok(scene)
 }

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::assemble::{default_light, finish_scene, push_triangles};
+use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT};
 use super::obj_geometry::{self, finite, words, MaterialLine, NO_USEMTL};
 use super::{Material, Scene, Triangle};
 use super::input_file::{read_bounded, MAX_DESCRIPTION_BYTES, MAX_GEOMETRY_BYTES};
@@ -46,13 +46,7 @@ pub fn load_obj(path: &Path) -> anyhow::Result<Scene> {
     }
     push_triangles(&mut scene, mesh.triangles);
     finish_scene(&mut scene, path, Vec::new())?;
-    if scene.emissive_triangles().is_empty() {
-        // Without an emitter the image would be black: light from over the camera's shoulder,
-        // plus a little ambient so that faces turned away are not pitch black.
-        scene.lights.push(default_light(&scene));
-        scene.stats.default_light = true;
-        scene.ambient = Vec3::splat(0.05);
-    }
+    light_if_unlit(&mut scene, DEFAULT_AMBIENT);
     Ok(scene)
 }
 

@@ -30,9 +30,7 @@ mod nodes;
 
 use std::path::Path;
 
-use glam::Vec3;
-
-use super::assemble::{default_light, finish_scene};
+use super::assemble::{finish_scene, light_if_unlit, DEFAULT_AMBIENT};
 use super::Scene;
 use crate::error::InputError;
 use crate::scene::input_file::{read_bounded, MAX_GEOMETRY_BYTES};
@@ -86,12 +84,8 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
         scene.tangents.clear();
     }
     finish_scene(&mut scene, path, cameras)?;
-    if scene.lights.is_empty() && scene.emissive_triangles().is_empty() {
-        // As a bare OBJ (obj::load_obj): light from over the camera's shoulder and a little
-        // ambient, so that the render is never black.
-        scene.lights.push(default_light(&scene));
-        scene.ambient = Vec3::splat(0.05);
-    }
+    // As a bare OBJ: the default light and a little ambient, so that the render is never black.
+    light_if_unlit(&mut scene, DEFAULT_AMBIENT);
     Ok(scene)
 }
 
