@@ -11,11 +11,18 @@ Embree's closest-hit query (`EmbreeScene.run`, rays/s over the call) on one thre
 thread runs one call on its own contiguous share of the rays, and embreex releases the GIL
 inside the call); and reports how often vkrt and Embree agree on the hit triangle.
 
+With `--ray-query BIN` (`cargo build --release -p vkrt-bench --bin vkrt-ray-query`) it also
+times the Vulkan driver's own ray tracing on the same rays (`VK_KHR_ray_query` over a BVH the
+driver builds: an anchor through the same compiler, not a product path; the tool's doc says
+more), over upload, traversal and read-back as vkrt's rate is, and with the driver's
+traversal-only rate beside it.
+
 The OBJ is read here with the same rules as vkrt's loader (polygons fan-triangulated in file
 order, zero-area triangles dropped), so triangle ids match between the two.
 
 Usage: python3 tools/embree_compare.py [--vkrt target/release/vkrt] [--builder B] [--layout L (default: vkrt's)]
-       [--rays N] [--orders auto given ...] [--rounds R] [--embree-threads T] SCENE.obj...
+       [--rays N] [--orders auto given ...] [--rounds R] [--embree-threads T]
+       [--ray-query target/release/vkrt-ray-query] SCENE.obj...
 With several `--orders` (vkrt trace --order) each ray set is traced once per order, so the
 rows compare inside one run; `--rounds` repeats every timing and keeps the best.
 Needs: pip install embreex numpy
@@ -93,6 +100,15 @@ def run_vkrt(vkrt, scene, rays_path, out_path, builder, layout, order):
     return float(m.group(1)) * 1e6, float(m.group(2)), float(m.group(3)), np.load(out_path)
 
 
+def run_ray_query(tool, scene, rays_path, out_path):
+    """The driver's ray query on the rays: (rays/s end to end, rays/s traversal, hits)."""
+    res = subprocess.run([tool, scene, rays_path, "--out", out_path, "--rounds", "1"], capture_output=True, text=True)
+    if res.returncode != 0:
+        sys.exit(f"{tool} failed: {res.stderr}")
+    m = re.search(r"([0-9.]+) M rays/s \(traversal\), ([0-9.]+) M rays/s \(upload", res.stdout)
+    return float(m.group(2)) * 1e6, float(m.group(1)) * 1e6, np.load(out_path)
+
+
 def embree_run(es, o, d, threads):
     """Embree's closest hits for rays (o, d) on `threads` threads at once, and the seconds
     from the first call's start to the last one's end."""
@@ -124,6 +140,8 @@ def main():
     ap.add_argument("--rounds", type=int, default=1, help="timings per row; the best is kept")
     ap.add_argument("--embree-threads", type=int, default=os.cpu_count() or 1,
                     help="threads for Embree's many-core column (default: every core)")
+    ap.add_argument("--ray-query", default=None, metavar="BIN",
+                    help="also time the driver's VK_KHR_ray_query on the same rays with this vkrt-ray-query binary")
     args = ap.parse_args()
     if args.embree_threads < 1:
         sys.exit("--embree-threads must be at least 1")
@@ -135,8 +153,9 @@ def main():
     n = args.embree_threads
     print(f"vkrt: {args.builder} / {args.layout or 'its default layout'}; Embree 4 via embreex on 1 and on {n} threads")
     print(f"| scene | triangles | rays | kind | vkrt order | vkrt M rays/s | Embree 1 thread | Embree {n} threads | "
-          f"vkrt / Embree {n} threads | nodes/ray | tris/ray | same prim |")
-    print("|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|")
+          f"vkrt / Embree {n} threads | nodes/ray | tris/ray | same prim |"
+          + (" driver ray query M rays/s (traversal alone) | vkrt / ray query | same prim (ray query) |" if args.ray_query else ""))
+    print("|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|" + ("---:|---:|---:|" if args.ray_query else ""))
     for scene in args.scenes:
         tris = load_obj(scene)
         lo, hi = tris.reshape(-1, 3).min(0), tris.reshape(-1, 3).max(0)
@@ -149,8 +168,12 @@ def main():
             o, d = np.ascontiguousarray(rays[:, 0:3]), np.ascontiguousarray(rays[:, 4:7])
             # Rounds interleave Embree and every vkrt order, so a slow phase of the machine
             # hits all of them.
-            em_rate, em_many, vk = 0.0, 0.0, {}
+            em_rate, em_many, vk, rq = 0.0, 0.0, {}, None
             for _ in range(args.rounds):
+                if args.ray_query:
+                    r = run_ray_query(args.ray_query, scene, rays_path, out_path)
+                    if rq is None or r[0] > rq[0]:
+                        rq = r
                 em_prim, seconds = embree_run(es, o, d, 1)
                 em_rate = max(em_rate, len(rays) / seconds)
                 many_prim, seconds = embree_run(es, o, d, n)
@@ -166,8 +189,13 @@ def main():
                 vk_rate, nodes, tests, hits = vk[order]
                 vk_prim = np.where(hits["prim"] == 0xFFFFFFFF, -1, hits["prim"].astype(np.int64))
                 same = float(np.mean(em_prim == vk_prim))
-                print(f"| {os.path.basename(scene)} | {len(tris)} | {len(rays)} | {kind} | {order} | {vk_rate / 1e6:.2f} | "
-                      f"{em_rate / 1e6:.2f} | {em_many / 1e6:.2f} | {vk_rate / em_many:.2f} | {nodes:.1f} | {tests:.2f} | {same * 100:.2f}% |")
+                row = (f"| {os.path.basename(scene)} | {len(tris)} | {len(rays)} | {kind} | {order} | {vk_rate / 1e6:.2f} | "
+                       f"{em_rate / 1e6:.2f} | {em_many / 1e6:.2f} | {vk_rate / em_many:.2f} | {nodes:.1f} | {tests:.2f} | {same * 100:.2f}% |")
+                if rq is not None:
+                    rq_prim = np.where(rq[2]["prim"] == 0xFFFFFFFF, -1, rq[2]["prim"].astype(np.int64))
+                    row += (f" {rq[0] / 1e6:.3f} ({rq[1] / 1e6:.3f}) | {vk_rate / rq[0]:.1f} | "
+                            f"{float(np.mean(rq_prim == vk_prim)) * 100:.2f}% |")
+                print(row)
 
 
 if __name__ == "__main__":
