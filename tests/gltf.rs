@@ -659,3 +659,100 @@ fn the_readme_showcase_loads_with_its_features_and_renders_in_both_integrators()
         assert!(g[0] > g[2] && g[1] > g[2], "{name}: the gold sphere is {g:?}");
     }
 }
+
+/// Node hierarchies that are not the strict trees glTF 2.0 asks for (section 3.5.1), and one
+/// that is but is very deep (issue 44): each bad one is an error naming the node before any
+/// mesh is placed, and the deep one loads.
+#[test]
+fn node_hierarchies_that_are_not_trees_are_errors_and_any_depth_loads() {
+    let dir = scratch("hierarchies");
+    // A legal chain of 100,000 nodes, each the only child of the one before, the mesh at its
+    // end: it used to overflow the thread's stack (SIGABRT).
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    const DEPTH: usize = 100_000;
+    let mut below = doc.node(json::Node { translation: Some([0.0, 0.0, 1.0]), ..mesh_node(mesh) });
+    for _ in 1..DEPTH {
+        below = doc.node(json::Node { translation: Some([0.0, 0.0, 1.0]), children: Some(vec![below]), ..Default::default() });
+    }
+    doc.scene(vec![below]);
+    doc.write_gltf(&dir.join("chain.gltf"), Storage::External("chain.bin"));
+    let scene = load_scene(&dir.join("chain.gltf")).expect("a deep chain loads");
+    assert_eq!(scene.triangles.len(), 1);
+    assert_near("the chain's sum of translations", scene.triangles[0].p[0], Vec3::new(0.0, 0.0, DEPTH as f32));
+
+    // 40 nodes, each listing the next one twice: 2^40 paths to the mesh. Refused at once.
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let mut below = doc.node(mesh_node(mesh));
+    for _ in 0..40 {
+        below = doc.node(json::Node { children: Some(vec![below, below]), ..Default::default() });
+    }
+    doc.scene(vec![below]);
+    doc.write_gltf(&dir.join("doubled.gltf"), Storage::DataUri);
+    let started = std::time::Instant::now();
+    assert_fails_naming(&dir.join("doubled.gltf"), "nodes[1].children[1]", "nodes[0] would have two parents (lists it twice)");
+    assert!(started.elapsed().as_secs() < 30, "the check comes before any expansion");
+
+    // A node under two different parents.
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let shared = doc.node(mesh_node(mesh));
+    let a = doc.node(json::Node { children: Some(vec![shared]), ..Default::default() });
+    let b = doc.node(json::Node { children: Some(vec![shared]), ..Default::default() });
+    doc.scene(vec![a, b]);
+    doc.write_gltf(&dir.join("two_parents.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("two_parents.gltf"), "nodes[2].children[0]", "nodes[0] would have two parents (nodes[1] lists it too)");
+
+    // A cycle outside the scene's tree: nodes 1 and 2 are each other's child.
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let shown = doc.node(mesh_node(mesh));
+    doc.node(json::Node { children: Some(vec![json::Index::new(2)]), ..Default::default() });
+    doc.node(json::Node { children: Some(vec![json::Index::new(1)]), ..Default::default() });
+    doc.scene(vec![shown]);
+    doc.write_gltf(&dir.join("cycle.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("cycle.gltf"), "nodes[", "is its own ancestor");
+
+    // A scene root that is another node's child.
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let child = doc.node(mesh_node(mesh));
+    let parent = doc.node(json::Node { children: Some(vec![child]), ..Default::default() });
+    doc.scene(vec![parent, child]);
+    doc.write_gltf(&dir.join("child_root.gltf"), Storage::DataUri);
+    assert_fails_naming(&dir.join("child_root.gltf"), "scenes[0].nodes[1]", "nodes[1] has it as a child");
+}
+
+/// A camera the loader cannot use is an error at its JSON location (issue 44), not a message
+/// about `--eye` that names neither the file nor the field.
+#[test]
+fn a_zero_field_of_view_is_an_error_naming_the_camera_field() {
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let tri = doc.node(mesh_node(mesh));
+    let camera = doc.root.push(perspective(0.0));
+    let eye = doc.node(json::Node { camera: Some(camera), translation: Some([0.0, 0.0, 4.0]), ..Default::default() });
+    doc.scene(vec![tri, eye]);
+    let path = scratch("camera_errors").join("yfov0.gltf");
+    doc.write_gltf(&path, Storage::DataUri);
+    assert_fails_naming(&path, "cameras[0].perspective.yfov", "0 radians is outside (0, pi)");
+}
+
+/// A file that places one large mesh many times is refused with the count before a triangle
+/// is copied: 300 placements of a million-triangle strip (a 4 MB file).
+#[test]
+fn a_file_that_places_too_many_triangles_is_refused_with_the_count() {
+    use json::mesh::{Mode, Semantic};
+    let mut doc = Doc::new();
+    let p = doc.vec3(&TRI);
+    let strip = doc.indices(&vec![0u32; 1 << 20]);
+    let prim = doc.primitive(&[(Semantic::Positions, p)], Some(strip), None, Mode::TriangleStrip);
+    let mesh = doc.mesh(vec![prim]);
+    let nodes: Vec<_> = (0..300).map(|_| doc.node(mesh_node(mesh))).collect();
+    doc.scene(nodes);
+    let path = scratch("placed_triangles").join("many.gltf");
+    doc.write_gltf(&path, Storage::External("many.bin"));
+    let count = 300 * ((1u64 << 20) - 2);
+    assert_fails_naming(&path, "nodes", &format!("places 300 meshes with {count} triangles in all"));
+}

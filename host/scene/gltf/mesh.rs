@@ -23,6 +23,37 @@ use super::materials::{transform_uv, MaterialTable};
 use crate::scene::assemble::push_triangle;
 use crate::scene::{Scene, Triangle};
 
+/// The most triangles a file may place. Each placement of a mesh is expanded into a copy of its
+/// triangles (about 110-160 bytes each on the host before the BVH is built), so 2^28 of them
+/// take 30-40 GiB: more than the machines vkrt is for. A file of many placements of one large
+/// mesh is refused with its count before a triangle is read.
+pub const MAX_PLACED_TRIANGLES: u64 = 1 << 28;
+
+/// Fails, with the count, if the placed meshes would expand into more than
+/// [`MAX_PLACED_TRIANGLES`] triangles (counted from their accessors' element counts).
+pub fn check_placed_triangles(placed: &[super::nodes::Placed], file: &Path) -> anyhow::Result<()> {
+    let mut triangles = 0u64;
+    let mut placements = 0u64;
+    for mesh in placed.iter().filter_map(|p| p.node.mesh()) {
+        placements += 1;
+        for prim in mesh.primitives() {
+            let corners = prim.indices().map(|a| a.count()).or_else(|| prim.get(&::gltf::Semantic::Positions).map(|a| a.count())).unwrap_or(0) as u64;
+            triangles += match prim.mode() {
+                ::gltf::mesh::Mode::Triangles => corners / 3,
+                ::gltf::mesh::Mode::TriangleStrip | ::gltf::mesh::Mode::TriangleFan => corners.saturating_sub(2),
+                _ => 0,
+            };
+        }
+    }
+    if triangles > MAX_PLACED_TRIANGLES {
+        let msg = format!(
+            "the scene places {placements} meshes with {triangles} triangles in all; vkrt copies each placement and takes at most {MAX_PLACED_TRIANGLES}"
+        );
+        return Err(at(file, "nodes", msg));
+    }
+    Ok(())
+}
+
 /// Adds every primitive of `mesh`, placed by `world`, to the scene (degenerate triangles
 /// dropped as the other loaders do, `Scene::tangents` kept in step).
 pub fn add_mesh(

@@ -67,13 +67,14 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
     let mut images = images::Images::new(&document, &buffers, path, dir);
     let table = materials::convert(&document, path, &mut images, &mut scene)?;
     let placed = nodes::walk(&document, path)?;
+    mesh::check_placed_triangles(&placed, path)?;
     let mut cameras = Vec::new();
     for p in &placed {
         if let Some(mesh) = p.node.mesh() {
             mesh::add_mesh(&mut scene, &mesh, p.world, &buffers, &table, path)?;
         }
         if let Some(camera) = p.node.camera() {
-            cameras.extend(cameras::camera(&camera, p.node.index(), p.world, path, &mut scene.stats));
+            cameras.extend(cameras::camera(&camera, p.node.index(), p.world, path, &mut scene.stats)?);
         }
         if let Some(light) = p.node.light() {
             scene.lights.push(lights::light(&light, p.world));
