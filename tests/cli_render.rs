@@ -261,7 +261,8 @@ fn resume_continues_a_run_from_its_checkpoint_alone() {
     first.extend_from_slice(&settings);
     ok(&vkrt(&first));
     // One word: the scene, size, seed, sky, camera and output come from the checkpoint.
-    ok(&vkrt(&["render", "--resume", &ckpt, "--spp", "8"]));
+    let said = ok(&vkrt(&["render", "--resume", &ckpt, "--spp", "8"]));
+    assert!(said.contains(&format!("resuming {ckpt}: 4 spp done, going on to 8")), "no word of the resume: {said}");
     let mut whole = vec!["render", &scene, "-o", &straight, "--spp", "8"];
     whole.extend_from_slice(&settings);
     ok(&vkrt(&whole));

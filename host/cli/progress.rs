@@ -17,6 +17,9 @@ const BAR_WIDTH: usize = 16;
 pub struct Status {
     /// 0 to 1.
     pub fraction: f64,
+    /// Where the work stood when this process took it up (a resumed run's share already done):
+    /// the ETA is the time so far over the progress made since.
+    pub start_fraction: f64,
     /// Done and total of a countable unit, with its name ("spp", "tiles").
     pub count: Option<(u64, Option<u64>, &'static str)>,
     pub rays_per_second: Option<f64>,
@@ -71,8 +74,9 @@ impl Status {
         if long {
             parts.push(duration(seconds));
         }
-        if f > 0.0 && f < 1.0 {
-            parts.push(format!("ETA {}", duration(seconds * (1.0 - f) / f)));
+        let made = f - self.start_fraction.clamp(0.0, 1.0);
+        if made > 0.0 && f < 1.0 {
+            parts.push(format!("ETA {}", duration(seconds * (1.0 - f) / made)));
         }
         if let Some(r) = self.rays_per_second {
             parts.push(format!("{} rays/s", si(r)));
@@ -138,10 +142,23 @@ mod tests {
     /// The bar's line, with its longest plausible status, fits an 80-column terminal.
     #[test]
     fn the_bar_line_fits_80_columns() {
-        let s = Status { fraction: 0.4567, count: Some((123_456, Some(999_999), "spp")), rays_per_second: Some(987.65e9), relmse: Some(1.234e-10) };
+        let s = Status { fraction: 0.4567, start_fraction: 0.0, count: Some((123_456, Some(999_999), "spp")), rays_per_second: Some(987.65e9), relmse: Some(1.234e-10) };
         let line = format!("[{}] {}", "=".repeat(BAR_WIDTH), s.describe(86_399.0, false));
         assert!(line.chars().count() <= 80, "{} columns: {line}", line.chars().count());
         let long = s.describe(12.3, true);
         assert!(long.contains("46%") && long.contains("ETA") && long.contains("rays/s") && long.contains("relMSE"), "{long}");
+    }
+
+    /// A resumed run's ETA counts only the progress this run made: 500 of 1024 spp resumed,
+    /// 530 reached in 5 s is 30 spp in 5 s, so 494 to go take about 82 s (it said 5 s, the
+    /// rate of all 530 samples).
+    #[test]
+    fn a_resumed_run_s_eta_counts_its_own_progress() {
+        let s = Status { fraction: 530.0 / 1024.0, start_fraction: 500.0 / 1024.0, count: Some((530, Some(1024), "spp")), ..Status::default() };
+        assert!(s.describe(5.0, true).contains("ETA 1m22s"), "{}", s.describe(5.0, true));
+        let fresh = Status { start_fraction: 0.0, ..s };
+        assert!(fresh.describe(5.0, true).contains("ETA 5s"), "{}", fresh.describe(5.0, true));
+        let nothing_yet = Status { fraction: s.start_fraction, ..s };
+        assert!(!nothing_yet.describe(5.0, true).contains("ETA"), "{}", nothing_yet.describe(5.0, true));
     }
 }

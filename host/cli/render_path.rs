@@ -279,6 +279,8 @@ fn resumed_sums(c: &Checkpoint, path: &Path, run: &PathRun, ours: &RunSettings, 
         let show = |s: &Option<ShardSet>| s.as_ref().map_or("a whole run".to_string(), |s| format!("shards {:?} of {} ({} spp)", s.indices, s.count, s.total_spp));
         bail!("cannot resume {}: it holds {}, this run is {}", path.display(), show(&c.settings.shards), show(&ours.shards));
     }
+    let to = run.settings.stop.spp.map_or(String::new(), |n| format!(", going on to {n}"));
+    say(&format!("resuming {}: {} spp done{to}", path.display(), c.accum.samples));
     Ok(c.accum.clone())
 }
 
@@ -320,6 +322,7 @@ pub fn render(
     let mut on_progress = |p: &PathProgress| {
         progress.update(&Status {
             fraction: p.fraction,
+            start_fraction: p.start_fraction,
             count: Some((p.samples, p.target_spp, "spp")),
             rays_per_second: p.rays_per_second,
             relmse: p.relmse,

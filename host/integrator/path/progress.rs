@@ -21,6 +21,9 @@ pub struct PathProgress {
     pub relmse: Option<f64>,
     /// 0 to 1: how far the stop condition closest to holding is.
     pub fraction: f64,
+    /// The same when this run started: a resumed run starts part of the way, and only what it
+    /// has done since says how fast it goes (the ETA).
+    pub start_fraction: f64,
 }
 
 /// The type of a hook that receives the sums so far.

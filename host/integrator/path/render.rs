@@ -230,6 +230,7 @@ pub fn render(
         dispatch_samples(ctx, &probe, &gpu.pipeline, "mirror probe", img, align, 0, 0, 0, &mut || stats.submissions += 1)?;
     }
     let mut run = RunState { samples: acc.samples, first_sample: acc.samples, ..RunState::default() };
+    let start_fraction = stop.fraction(&run);
     let (mut last_estimate, mut last_checkpoint, mut last_snapshot) = (start, start, start);
     // How long a read-back for the estimate took, and the rays counted at the last one.
     let (mut read_s, mut rays_per_second) = (0.0f64, None);
@@ -329,6 +330,7 @@ pub fn render(
                 rays_per_second,
                 relmse: run.relmse,
                 fraction: stop.fraction(&at),
+                start_fraction,
             });
         }
     }
