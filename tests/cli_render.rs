@@ -354,3 +354,35 @@ fn latin1_names_from_old_exporters_still_match() {
     let quiet = vkrt(&["render", &obj, "-o", &out, "--width", "8", "--height", "8", "--quiet"]);
     assert!(quiet.status.success() && quiet.stderr.is_empty(), "{}", stderr(&quiet));
 }
+
+/// `vkrt compare` says its verdict when asked to gate (issue 45): a pass line, a FAIL line
+/// with exit 1, `"pass"` in JSON; it warns when a display picture meets linear radiance, and a
+/// size mismatch that --downsample would fix names the flag.
+#[test]
+fn compare_says_its_verdict_warns_of_mixed_encodings_and_names_downsample() {
+    let dir = common::scratch_dir("cli-compare-verdict");
+    let render = |out: &str, size: &str, seed: &str| {
+        ok(&vkrt(&["render", &repo(MEASURED), "-o", out, "--integrator", "path", "--spp", "2", "--width", size, "--height", size, "--seed", seed]));
+    };
+    let (a, b, big, png) = (file(&dir, "a.exr"), file(&dir, "b.exr"), file(&dir, "big.exr"), file(&dir, "a.png"));
+    render(&a, "16", "1");
+    render(&b, "16", "2");
+    render(&big, "32", "1");
+    render(&png, "16", "1");
+    let same = vkrt(&["compare", &a, &a, "--max-relmse", "0"]);
+    let text = String::from_utf8_lossy(&same.stdout).into_owned();
+    assert!(same.status.success() && text.contains("verdict   pass: relMSE 0.000000e0 <= --max-relmse 0e0"), "{text}");
+    let far = vkrt(&["compare", &a, &b, "--max-relmse", "1e-9"]);
+    let text = String::from_utf8_lossy(&far.stdout).into_owned();
+    assert!(text.contains("verdict   FAIL: relMSE"), "{text}");
+    fails(&far, "exceeds --max-relmse");
+    let json = vkrt(&["compare", &a, &a, "--max-relmse", "0", "--json"]);
+    assert!(String::from_utf8_lossy(&json.stdout).contains("\"pass\": true"), "{}", String::from_utf8_lossy(&json.stdout));
+    let without = vkrt(&["compare", &a, &b]);
+    assert!(!String::from_utf8_lossy(&without.stdout).contains("verdict"), "a verdict nobody asked for");
+    let mixed = vkrt(&["compare", &png, &a]);
+    assert!(stderr(&mixed).contains("warning:") && stderr(&mixed).contains("8-bit picture"), "{}", stderr(&mixed));
+    assert!(!stderr(&vkrt(&["compare", &a, &b])).contains("warning"), "a warning for two linear images");
+    fails(&vkrt(&["compare", &big, &a]), "--downsample");
+    ok(&vkrt(&["compare", &big, &a, "--downsample"]));
+}

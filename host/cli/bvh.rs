@@ -149,7 +149,7 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
                 if builder == args.heatmap_builder && layout == args.heatmap_layout {
                     let out = heatmap_path(out, path, args.scenes.len() > 1);
                     let counts: Vec<u32> = hits.iter().map(|h| h.nodes_visited).collect();
-                    heatmap::write(&out, &counts, args.width, args.height)?;
+                    heatmap::write(&out, &counts, args.width, args.height, "nodes visited per ray")?;
                     eprintln!("heat map of nodes visited ({} / {}): {}", builder.name(), layout.name(), out.display());
                 }
             }
