@@ -346,7 +346,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let defaults = stored.map(|s| &s.resume).filter(|r| !r.output.is_empty());
     // A shard: asked for now, or the resumed checkpoint's (a preempted shard goes on).
     let requested = args.path.shard.requested(&|name| std::env::var(name).ok())?;
-    let timed = args.path.time.is_some() || args.path.target_relmse.is_some();
+    let timed = if args.path.time.is_some() {
+        Some("--time")
+    } else if args.path.target_relmse.is_some() {
+        Some("--target-relmse")
+    } else {
+        None
+    };
     let mut shard = shard::resolve(requested, args.spp.map(u64::from), args.path.adaptive, timed)?;
     if let Some(set) = stored.and_then(|s| s.shards.as_ref()) {
         let &[index] = set.indices.as_slice() else {

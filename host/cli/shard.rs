@@ -89,9 +89,14 @@ impl ShardArgs {
     }
 }
 
-/// The shard, checked against the run's other settings: `spp` is the whole run's.
-pub fn resolve(requested: Option<(u32, u32)>, spp: Option<u64>, adaptive: bool, timed: bool) -> Result<Option<Shard>> {
+/// The shard, checked against the run's other settings: `spp` is the whole run's; `timed`
+/// names the stop flag other than --spp that was given (--time, --target-relmse), which a
+/// shard refuses whether or not --spp is there too.
+pub fn resolve(requested: Option<(u32, u32)>, spp: Option<u64>, adaptive: bool, timed: Option<&str>) -> Result<Option<Shard>> {
     let Some((index, count)) = requested else { return Ok(None) };
+    if let Some(flag) = timed {
+        bail!("--shard stops on --spp only: with {flag} the shards would not add up to one run (give the whole run's --spp)");
+    }
     let Some(total) = spp else {
         bail!("--shard needs --spp: the whole run's samples per pixel, which the shards divide");
     };
@@ -100,9 +105,6 @@ pub fn resolve(requested: Option<(u32, u32)>, spp: Option<u64>, adaptive: bool, 
             "--shard does not go with --adaptive: each shard would allocate from its own noise, so the shards \
              would not add up to one run (render the adaptive run in one process, or shard a uniform one)"
         );
-    }
-    if timed {
-        bail!("--shard stops on --spp only: with --time or --target-relmse the shards would not add up to the run");
     }
     Shard::new(index, count, total).map(Some)
 }
@@ -144,10 +146,14 @@ mod tests {
 
     #[test]
     fn shards_need_a_sample_count_and_a_checkpoint() {
-        assert!(resolve(Some((0, 2)), None, false, false).is_err());
-        assert!(resolve(Some((0, 2)), Some(8), true, false).is_err());
-        assert!(resolve(Some((0, 2)), Some(8), false, true).is_err());
-        let s = resolve(Some((1, 2)), Some(9), false, false).unwrap();
+        assert!(resolve(Some((0, 2)), None, false, None).is_err());
+        assert!(resolve(Some((0, 2)), Some(8), true, None).is_err());
+        // The flag given is the one named, with or without --spp (it said "--shard needs --spp").
+        for spp in [None, Some(8)] {
+            let e = resolve(Some((0, 2)), spp, false, Some("--time")).unwrap_err().to_string();
+            assert!(e.contains("with --time"), "{e}");
+        }
+        let s = resolve(Some((1, 2)), Some(9), false, None).unwrap();
         assert_eq!(s.map(|s| s.range()), Some((4, 5)));
         assert_eq!(output_path(Path::new("part-{shard}.ckpt"), s).unwrap(), PathBuf::from("part-1.ckpt"));
         assert!(output_path(Path::new("part.exr"), s).is_err());
