@@ -6,6 +6,11 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     restore_default_sigpipe();
+    let args: Vec<String> = std::env::args().collect();
+    if args.get(1).map(String::as_str) == Some("render") && args.iter().any(|a| a == vkrt::cli::HELP_EXPERT) {
+        println!("{}", vkrt::cli::render_help_expert());
+        return ExitCode::SUCCESS;
+    }
     let cli = match vkrt::cli::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => match e.kind() {

@@ -33,7 +33,7 @@ fn help_lists_every_render_option() {
     let o = vkrt(&["render", "--help"]);
     assert!(o.status.success());
     let text = String::from_utf8_lossy(&o.stdout);
-    for flag in ["--output", "--width", "--height", "--integrator", "--max-depth", "--spp", "--builder", "--device", "--seed"] {
+    for flag in ["--output", "--width", "--height", "--integrator", "--max-depth", "--spp", "--device", "--time", "--shard"] {
         assert!(text.contains(flag), "render --help lacks {flag}");
     }
     assert!(vkrt(&["--help"]).status.success());
@@ -241,10 +241,64 @@ fn envmap_replaces_the_default_light_of_every_loader() {
         let line = |text: &str| text.lines().find(|l| l.trim_start().starts_with(light)).map(str::to_string);
         let on = line(&text).unwrap_or_else(|| panic!("{scene}: no {light} line in -v:\n{text}"));
         assert!(on.contains(" on "), "{scene} without a map is lit by its default light: {on}");
-        let lit = vkrt(&["render", &path, "-v", "--no-cache", "--envmap", &map, "--width", "8", "--height", "8", "-o", &out]);
+        let lit = vkrt(&["render", &path, "-v", "--cache", "off", "--envmap", &map, "--width", "8", "--height", "8", "-o", &out]);
         let text = stderr(&lit);
         assert!(lit.status.success(), "{scene}: {text}");
+        assert!(text.contains("prepared-scene cache: off"), "--cache off kept a cache: {text}");
         let off = line(&text).unwrap_or_else(|| panic!("{scene}: no {light} line in -v:\n{text}"));
         assert!(off.contains(" off ") && off.contains("replaces the default light"), "{scene} under a map: {off}");
+    }
+}
+
+/// `vkrt render --help` fits on a screen (issue 45): at most 25 options, each under a heading
+/// (output, image, camera, lights, progressive runs, clusters, device); each of them is run by
+/// a test that runs the binary (found as a quoted argument in those test files); the flags it
+/// leaves out still work and `--help-expert` lists them all.
+#[test]
+fn render_help_shows_at_most_25_grouped_options_each_run_by_a_test() {
+    use clap::CommandFactory;
+    let mut cli = vkrt::cli::Cli::command();
+    cli.build();
+    let render = cli.find_subcommand("render").expect("a render command");
+    let options: Vec<&clap::Arg> = render.get_arguments().filter(|a| !a.is_positional() && a.get_long() != Some("help")).collect();
+    let visible: Vec<&clap::Arg> = options.iter().copied().filter(|a| !a.is_hide_set()).collect();
+    let names = |args: &[&clap::Arg]| args.iter().filter_map(|a| a.get_long()).map(|l| format!("--{l}")).collect::<Vec<_>>();
+    assert!(visible.len() <= 25, "{} options in render --help: {:?}", visible.len(), names(&visible));
+    for a in &visible {
+        assert!(a.get_help_heading().is_some(), "--{} has no heading", a.get_long().unwrap_or("?"));
+    }
+    let tests = common::repo_path("tests");
+    let mut sources = String::new();
+    for entry in std::fs::read_dir(&tests).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        if path.extension().is_some_and(|e| e == "rs") && (text.contains("vkrt_bin()") || text.contains("CARGO_BIN_EXE_vkrt")) {
+            sources += &text;
+        }
+    }
+    for a in &visible {
+        let long = format!("\"--{}\"", a.get_long().unwrap_or_default());
+        let short = a.get_short().map(|c| format!("\"-{c}\""));
+        assert!(
+            sources.contains(&long) || short.is_some_and(|s| sources.contains(&s)),
+            "no test runs the binary with {long}"
+        );
+    }
+    let help = String::from_utf8_lossy(&vkrt(&["render", "--help"]).stdout).into_owned();
+    assert!(help.contains("--help-expert"), "render --help does not say where the other flags are");
+    let expert = vkrt(&["render", "--help-expert"]);
+    assert!(expert.status.success());
+    let expert = String::from_utf8_lossy(&expert.stdout).into_owned();
+    for name in names(&options) {
+        assert!(expert.contains(&name), "--help-expert lacks {name}");
+    }
+    let hidden: Vec<&clap::Arg> = options.iter().copied().filter(|a| a.is_hide_set()).collect();
+    // An option's line starts with its flags (`  -o, --output <FILE>`); descriptions may name others.
+    let listed = |text: &str, name: &str| {
+        text.lines().map(str::trim_start).any(|l| l.split_whitespace().any(|w| w.trim_end_matches(',') == name) && l.starts_with('-'))
+    };
+    for name in names(&hidden) {
+        assert!(!listed(&help, &name), "--help lists {name}");
+        assert!(listed(&expert, &name), "--help-expert does not list {name}");
     }
 }

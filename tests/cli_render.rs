@@ -256,7 +256,7 @@ fn resume_continues_a_run_from_its_checkpoint_alone() {
     let (ckpt, out, straight) = (file(&dir, "run.ckpt"), file(&dir, "run.exr"), file(&dir, "straight.exr"));
     // Sobol: a run extended past its --spp continues the very samples one longer run draws. (The
     // default zsobol's sets are the run's spp rounded up: extended, it draws new sets.)
-    let settings = ["--integrator", "path", "--width", "24", "--height", "16", "--seed", "3", "--sky", "0.1,0.1,0.1", "--eye", "278,273,-700", "--sampler", "sobol"];
+    let settings = ["--integrator", "path", "--width", "24", "--height", "16", "--seed", "3", "--sky", "0.1,0.1,0.1", "--eye", "278,273,-700", "--target", "278,260,0", "--sampler", "sobol"];
     let mut first = vec!["render", &scene, "-o", &out, "--spp", "4", "--checkpoint", &ckpt];
     first.extend_from_slice(&settings);
     ok(&vkrt(&first));

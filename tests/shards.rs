@@ -1,4 +1,4 @@
-//! Sharded runs (`vkrt render --shard I/N`, `--shard-from-env`): the shards of a run, merged,
+//! Sharded runs (`vkrt render --shard I/N`, `--shard env` and its older spelling `--shard-from-env`): the shards of a run, merged,
 //! are the same bytes as the run rendered whole, for any shard count and any split of a --spp
 //! the count does not divide; a merge of the wrong or an incomplete set of shards is a clear
 //! error naming what is wrong or missing.
@@ -49,7 +49,7 @@ fn merged_shards_are_the_whole_run_bit_for_bit() {
                 // One shard as a Slurm array task numbered from 1 would see it.
                 let (id, n) = ((i + 1).to_string(), count.to_string());
                 let env = [("SLURM_ARRAY_TASK_ID", id.as_str()), ("SLURM_ARRAY_TASK_MIN", "1"), ("SLURM_ARRAY_TASK_COUNT", n.as_str())];
-                ok(vkrt(&[&base[..], &["--shard-from-env", "-o", &out]].concat(), &env), "shard from Slurm's environment");
+                ok(vkrt(&[&base[..], &["--shard", "env", "-o", &out]].concat(), &env), "shard from Slurm's environment");
             } else {
                 ok(vkrt(&[&base[..], &["--shard", &label, "-o", &out]].concat(), &[]), &format!("shard {label}"));
             }

@@ -29,9 +29,27 @@ pub struct Cli {
     pub command: Command,
 }
 
+/// What `vkrt render --help` ends with: where the flags it leaves out are.
+const RENDER_AFTER_HELP: &str = "More flags (the seed, the camera's up and lens, the map's scale and turn, and the knobs for \
+experiments: sampler, coherence, connections, batch size, BVH builder and layout): vkrt render --help-expert";
+
+/// The flag that shows `vkrt render`'s whole help, hidden flags included.
+pub const HELP_EXPERT: &str = "--help-expert";
+
+/// `vkrt render --help-expert`: the render command's long help with every flag, those that
+/// `--help` leaves out included (they work either way).
+pub fn render_help_expert() -> String {
+    use clap::CommandFactory;
+    let mut cli = Cli::command();
+    let Some(render) = cli.find_subcommand_mut("render") else { return String::new() };
+    let all = render.clone().bin_name("vkrt render").mut_args(|a| a.hide(false)).after_help("");
+    all.clone().render_long_help().to_string()
+}
+
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene (.obj, lab .yaml, glTF .gltf/.glb) to an image (.png, .exr or .pfm).
+    #[command(after_help = RENDER_AFTER_HELP)]
     Render(render::RenderArgs),
     /// List the Vulkan devices and the limits that matter to vkrt.
     Info(DeviceArgs),
@@ -51,7 +69,7 @@ pub enum Command {
 pub struct DeviceArgs {
     /// Vulkan device: an index from `vkrt info` or part of its name. Default: a discrete GPU
     /// if present, else the best other device (lavapipe on a machine without a GPU).
-    #[arg(long, env = "VKRT_DEVICE", global = true)]
+    #[arg(help_heading = "Device", long, env = "VKRT_DEVICE", global = true)]
     pub device: Option<String>,
 }
 

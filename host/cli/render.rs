@@ -37,6 +37,9 @@ pub enum IntegratorKind {
     Path,
 }
 
+/// `--cache off`: no prepared-scene or shader cache.
+const CACHE_OFF: &str = "off";
+
 /// Default image size, both sides.
 pub const DEFAULT_SIZE: u32 = 512;
 /// The Whitted integrator's defaults.
@@ -50,85 +53,87 @@ pub struct RenderArgs {
     /// The image to write, exactly this file; the extension picks the format: .png (8-bit
     /// sRGB, after --exposure and --tonemap), .exr or .pfm (linear float radiance). With
     /// --resume, default: the checkpoint's.
-    #[arg(short, long, value_name = "FILE")]
+    #[arg(help_heading = "Output", short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
     /// Image width in pixels [default: 512].
-    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "PIXELS")]
+    #[arg(help_heading = "Image", long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "PIXELS")]
     pub width: Option<u32>,
     /// Image height in pixels [default: 512].
-    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "PIXELS")]
+    #[arg(help_heading = "Image", long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "PIXELS")]
     pub height: Option<u32>,
     /// Integrator [default: whitted, or path when a path-tracer flag such as --time or
     /// --resume is given].
-    #[arg(long, value_enum)]
+    #[arg(help_heading = "Image", long, value_enum)]
     pub integrator: Option<IntegratorKind>,
     /// Rays per path (1 = primary rays only). Whitted: 1 to 15 (its ray tree lives on a fixed
     /// stack), default 7. Path tracer: default unbounded (Russian roulette ends paths).
-    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "RAYS")]
+    #[arg(help_heading = "Image", long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "RAYS")]
     pub max_depth: Option<u32>,
     /// Samples per pixel, at least 1. Whitted (default 1): 1 samples the pixel centre, more are
     /// jittered. Path tracer: the total to stop at (default 16 when no --time or
     /// --target-relmse).
-    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
+    #[arg(help_heading = "Image", long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
     pub spp: Option<u32>,
     /// Seed of the samples: the same seed gives the same image, bit for bit [default: 0].
-    #[arg(long, value_parser = whole, allow_negative_numbers = true)]
+    #[arg(hide = true, long, value_parser = whole, allow_negative_numbers = true)]
     pub seed: Option<u32>,
     /// BVH builder: median, sah (binned SAH), sweep-sah or reinsertion (binned SAH, refined) [default: reinsertion].
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub builder: Option<BuilderKind>,
     /// BVH layout the shaders walk [default: threaded]; none changes the image.
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub layout: Option<LayoutKind>,
     /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
     /// triangles (a room's walls) otherwise join, tested by every ray before its walk.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub no_triangle_list: bool,
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
     pub display: DisplayArgs,
     /// Also write an 8-bit PNG preview of the image here (after --exposure and --tonemap).
-    #[arg(long, value_name = "FILE.png")]
+    #[arg(help_heading = "Output", long, value_name = "FILE.png")]
     pub preview: Option<PathBuf>,
     /// Print scene and timing details, the camera used and which shader variant ran and why.
-    #[arg(short, long)]
+    #[arg(help_heading = "Output", short, long)]
     pub verbose: bool,
     /// Print nothing but errors: no progress, no warnings, no summary.
-    #[arg(short, long, conflicts_with = "verbose")]
+    #[arg(help_heading = "Output", short, long, conflicts_with = "verbose")]
     pub quiet: bool,
     /// What rays that leave the scene see, as linear RGB radiance `R,G,B` (e.g. `1,1,1`):
     /// replaces the scene's sky box; lights the scene in the path tracer. Default: the scene's
     /// sky box if it has one, else black.
-    #[arg(long, value_name = "R,G,B")]
+    #[arg(help_heading = "Lights", long, value_name = "R,G,B")]
     pub sky: Option<String>,
     #[command(flatten)]
     pub envmap: super::sky::EnvmapArgs,
     /// Run the all-features shader instead of the variant specialised to what the scene uses
     /// (same image, slower; for comparisons and benchmarks).
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub all_features: bool,
+    #[command(flatten)]
+    pub path: PathArgs,
     /// Keep prepared scenes (BVH, shading arrays, textures) in this folder and reuse them
     /// while the scene's files and the build settings are unchanged [default: the user's cache
     /// folder, $XDG_CACHE_HOME/vkrt or ~/.cache/vkrt, for scenes that take 0.5 s or more to
     /// prepare, at most 16 GiB]. With a folder given, every scene is kept and none evicted.
     /// Compiled shaders are kept in its `shaders` folder (devices with shader objects, such as
-    /// lavapipe: ~0.13 s less start-up per render there).
-    #[arg(long, value_name = "DIR", env = "VKRT_CACHE")]
+    /// lavapipe: ~0.13 s less start-up per render there). `off`: prepare the scene and compile
+    /// the shaders from their files, and keep nothing (a folder named off: `./off`).
+    #[arg(help_heading = "Device", long, value_name = "DIR|off", env = "VKRT_CACHE")]
     pub cache: Option<PathBuf>,
-    /// Prepare the scene and compile the shaders from their files, and keep nothing.
-    #[arg(long, conflicts_with = "cache")]
+    /// Prepare the scene and compile the shaders from their files, and keep nothing (as
+    /// `--cache off`).
+    #[arg(hide = true, long, conflicts_with = "cache")]
     pub no_cache: bool,
     #[command(flatten)]
     pub device: DeviceArgs,
-    #[command(flatten)]
-    pub path: PathArgs,
 }
 
 impl RenderArgs {
     /// The prepared-scene cache this run uses, if any.
     fn scene_cache(&self) -> Option<Cache> {
-        if self.no_cache {
+        if self.no_cache || self.cache.as_deref() == Some(Path::new(CACHE_OFF)) {
             return None;
         }
         match &self.cache {
@@ -142,26 +147,26 @@ impl RenderArgs {
 #[derive(Debug, Args, Default)]
 pub struct CameraArgs {
     /// Render from the scene file's camera N (0 is the first, in file order).
-    #[arg(long, value_parser = whole, allow_negative_numbers = true, value_name = "N")]
+    #[arg(help_heading = "Camera", long, value_parser = whole, allow_negative_numbers = true, value_name = "N")]
     pub camera: Option<u32>,
     /// Camera position, replacing the scene camera's.
-    #[arg(long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(help_heading = "Camera", long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub eye: Option<Vec3>,
     /// The point the camera looks at.
-    #[arg(long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(help_heading = "Camera", long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub target: Option<Vec3>,
     /// The camera's up direction.
-    #[arg(long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    #[arg(hide = true, long, value_parser = vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub up: Option<Vec3>,
     /// Vertical field of view in degrees.
-    #[arg(long, value_parser = fov, value_name = "DEGREES")]
+    #[arg(help_heading = "Camera", long, value_parser = fov, value_name = "DEGREES")]
     pub fov: Option<f32>,
     /// Thin-lens depth of field: the aperture's radius in scene units [default: 0, a pinhole].
     /// The Whitted integrator blurs only with --spp above 1.
-    #[arg(long, value_parser = non_negative, value_name = "R")]
+    #[arg(hide = true, long, value_parser = non_negative, value_name = "R")]
     pub aperture: Option<f32>,
     /// Distance from the eye to the plane in focus [default: the distance to the target].
-    #[arg(long, value_parser = non_negative, value_name = "D")]
+    #[arg(hide = true, long, value_parser = non_negative, value_name = "D")]
     pub focus_distance: Option<f32>,
 }
 
@@ -172,12 +177,12 @@ pub struct DisplayArgs {
     /// Exposure in stops: the image is scaled by 2^EV before the display transform; `auto`
     /// maps the image's log-average luminance to middle grey 0.18; 0 shows the radiance as it
     /// is [default: auto].
-    #[arg(long, value_parser = exposure, allow_negative_numbers = true, value_name = "EV|auto")]
+    #[arg(help_heading = "Output", long, value_parser = exposure, allow_negative_numbers = true, value_name = "EV|auto")]
     pub exposure: Option<Exposure>,
     /// Display transform for 8-bit outputs: neutral (Khronos PBR Neutral: colours below 0.76
     /// unchanged, highlights rolled off, never clipped), aces (filmic S-curve) or clamp (clip
     /// at 1) [default: neutral].
-    #[arg(long, value_enum)]
+    #[arg(help_heading = "Output", long, value_enum)]
     pub tonemap: Option<Tonemap>,
 }
 

@@ -32,38 +32,38 @@ pub const DEFAULT_SAMPLES_PER_BATCH: u32 = path::batch::FIRST_BATCH_SPP;
 #[derive(Debug, Args, Default)]
 pub struct PathArgs {
     /// Path tracer: sample generator [default: zsobol].
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub sampler: Option<SamplerKind>,
     /// Path tracer, stratified sampler: strata per pixel side (N^2 strata) [default: 4].
-    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
+    #[arg(hide = true, long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
     pub sample_rate: Option<u32>,
     /// Path tracer: stop after this many seconds (with --spp or --target-relmse, the first to hold).
-    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
+    #[arg(help_heading = "Progressive runs", long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
     pub time: Option<f64>,
     /// Path tracer: stop once the relMSE estimated from two half-images is at most this.
-    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "RELMSE")]
+    #[arg(help_heading = "Progressive runs", long, value_parser = positive, allow_negative_numbers = true, value_name = "RELMSE")]
     pub target_relmse: Option<f64>,
     /// Path tracer: write the running sums, sample count and settings here every
     /// --checkpoint-interval seconds and at the end, atomically. With --resume, default: the
     /// resumed checkpoint itself.
-    #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = "Progressive runs", long, value_name = "FILE")]
     pub checkpoint: Option<PathBuf>,
     /// Path tracer: seconds between checkpoints [default: 10].
-    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
+    #[arg(hide = true, long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
     pub checkpoint_interval: Option<f64>,
     /// Path tracer: continue the run saved in this checkpoint, with the scene, size, camera and
     /// sampling settings it records (flags that would change the image are an error); --spp,
     /// --time and --target-relmse given here replace its stop rules, -o its output.
-    #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = "Progressive runs", long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
     /// Path tracer: samples per pixel per submission (one submission per 128 x 128 tile on a
     /// CPU device). Default: 4 at first, then grown while a submission stays under 0.25 s and
     /// a batch of them under 1 s, up to 64: less per-batch overhead on small images, the same
     /// image.
-    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
+    #[arg(hide = true, long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
     pub samples_per_batch: Option<u32>,
     /// Path tracer: BSDF sampling only, no light sampling (for checking the estimators).
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub no_nee: bool,
     /// Path tracer: light-vertex connections [default: auto]. Each sample also follows light
     /// from an emissive triangle to the first surface it hits and joins every vertex of the
@@ -72,31 +72,31 @@ pub struct PathArgs {
     /// 1.3-1.8x the time. auto: on in scenes lit by emissive triangles whose materials are all
     /// Lambertian (there it won: 0.75x the relMSE x seconds), off with mirrors, glass or glossy
     /// materials (there it lost: 1.2-1.6x).
-    #[arg(long, value_enum, value_name = "MODE")]
+    #[arg(hide = true, long, value_enum, value_name = "MODE")]
     pub connections: Option<path::connections::Connections>,
     /// Path tracer: pixels that draw the same sample numbers (coherent path tracing)
     /// [default: 8]. 8 makes lavapipe's SIMD lanes trace alike: about
     /// 0.55x the time (with the default block and sampler) at the same expected error per
     /// pixel. 1: every pixel its own numbers.
-    #[arg(long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
+    #[arg(hide = true, long, value_parser = at_least_one, allow_negative_numbers = true, value_name = "N")]
     pub coherence: Option<u32>,
     /// Path tracer: the side of the square over which each --coherence group's pixels are
     /// spread [default: 16] (in Z order with --sampler zsobol, at random with the others), so
     /// that their correlated errors lie apart and the noise shows no structure; a power of two
     /// from 8 to 256. 0: the group is N pixels in a row (less time, but the noise shows as
     /// short horizontal streaks).
-    #[arg(long, value_name = "B")]
+    #[arg(hide = true, long, value_name = "B")]
     pub coherence_block: Option<u32>,
     /// Path tracer: adaptive sampling. After a uniform pilot of 8 spp, each block of pixels (a
     /// --coherence-block square, or with groups in a row 8 pixels or whole groups) takes
     /// samples in proportion to the noise the pilot showed around it (not in it, which keeps
     /// the image unbiased); --spp is then the mean over the pixels. Lower relMSE at equal time
     /// where the noise is uneven (0.73x on a mirror box, 0.95x on others), FLIP 1.5-4.5 % higher.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub adaptive: bool,
     /// Path tracer: rewrite the output image (atomically) every SECONDS while rendering, so an
     /// image viewer that reloads shows it converge.
-    #[arg(long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
+    #[arg(help_heading = "Progressive runs", long, value_parser = positive, allow_negative_numbers = true, value_name = "SECONDS")]
     pub preview_every: Option<f64>,
     #[command(flatten)]
     pub shard: ShardArgs,

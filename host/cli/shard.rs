@@ -15,6 +15,9 @@ const SLURM_COUNT: &str = "SLURM_ARRAY_TASK_COUNT";
 const KUBERNETES_INDEX: &str = "JOB_COMPLETION_INDEX";
 const AWS_BATCH_INDEX: &str = "AWS_BATCH_JOB_ARRAY_INDEX";
 
+/// `--shard env`: the shard from the array job's environment.
+const SHARD_FROM_ENV: &str = "env";
+
 /// What `{shard}` in `-o` becomes: the shard's index.
 pub const INDEX_PLACEHOLDER: &str = "{shard}";
 
@@ -23,18 +26,21 @@ pub struct ShardArgs {
     /// Path tracer: render part I of N (numbered from 0) of the --spp run's sample indices and
     /// write its sums to -o, a .ckpt (`{shard}` in the name becomes I); `vkrt merge` of all N
     /// gives the same bytes as the whole run. Needs --spp; not with --adaptive, --time or
-    /// --target-relmse.
-    #[arg(long, value_name = "I/N", conflicts_with = "shard_from_env")]
+    /// --target-relmse. `env`: I and N from the array job's environment (Slurm's
+    /// SLURM_ARRAY_TASK_ID less SLURM_ARRAY_TASK_MIN, and SLURM_ARRAY_TASK_COUNT; Kubernetes
+    /// Indexed Jobs' JOB_COMPLETION_INDEX or AWS Batch's AWS_BATCH_JOB_ARRAY_INDEX, N from
+    /// --shard-count).
+    #[arg(help_heading = "Clusters", long, value_name = "I/N|env", conflicts_with = "shard_from_env")]
     pub shard: Option<String>,
-    /// Path tracer: as --shard, with I (and N) from the array job's environment: Slurm's
+    /// Path tracer: as `--shard env`, with I (and N) from the array job's environment: Slurm's
     /// SLURM_ARRAY_TASK_ID (less SLURM_ARRAY_TASK_MIN) and SLURM_ARRAY_TASK_COUNT, Kubernetes
     /// Indexed Jobs' JOB_COMPLETION_INDEX or AWS Batch's AWS_BATCH_JOB_ARRAY_INDEX (N from
     /// --shard-count).
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub shard_from_env: bool,
     /// Path tracer, --shard-from-env: the number of shards, where the environment has no count
     /// (Kubernetes, AWS Batch), or to check Slurm's.
-    #[arg(long, value_name = "N")]
+    #[arg(hide = true, long, value_name = "N")]
     pub shard_count: Option<u32>,
 }
 
@@ -55,15 +61,16 @@ impl ShardArgs {
 
     /// The (index, count) asked for, if any, reading `env` for `--shard-from-env`.
     pub fn requested(&self, env: &dyn Fn(&str) -> Option<String>) -> Result<Option<(u32, u32)>> {
-        if self.shard_count.is_some() && !self.shard_from_env {
-            bail!("--shard-count goes with --shard-from-env (--shard I/N names the count itself)");
+        let from_env = self.shard_from_env || self.shard.as_deref() == Some(SHARD_FROM_ENV);
+        if self.shard_count.is_some() && !from_env {
+            bail!("--shard-count goes with --shard env (--shard I/N names the count itself)");
         }
-        if let Some(text) = &self.shard {
+        if let Some(text) = self.shard.as_ref().filter(|_| !from_env) {
             let (i, n) = text.split_once('/').with_context(|| format!("--shard {text}: expected I/N, e.g. 3/8"))?;
             let number = |s: &str| s.trim().parse::<u32>().with_context(|| format!("--shard {text}: '{s}' is not a whole number"));
             return Ok(Some((number(i)?, number(n)?)));
         }
-        if !self.shard_from_env {
+        if !from_env {
             return Ok(None);
         }
         let read = |name: &str| -> Result<Option<u32>> {
@@ -85,7 +92,7 @@ impl ShardArgs {
                 return Ok(Some((index, count)));
             }
         }
-        bail!("--shard-from-env: none of {SLURM_ID}, {KUBERNETES_INDEX}, {AWS_BATCH_INDEX} is set (not in an array job?)")
+        bail!("--shard env: none of {SLURM_ID}, {KUBERNETES_INDEX}, {AWS_BATCH_INDEX} is set (not in an array job?)")
     }
 }
 

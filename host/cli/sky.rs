@@ -19,13 +19,13 @@ pub struct EnvmapArgs {
     /// Mitsuba 3's convention: u = atan2(x, -z) / 2pi, v = acos(y) / pi, the top row straight
     /// up. Escaping rays see it; the path tracer samples it as a light. Replaces the scene's
     /// sky and the default light of a file without lights.
-    #[arg(long, value_name = "FILE", conflicts_with = "sky")]
+    #[arg(help_heading = "Lights", long, value_name = "FILE", conflicts_with = "sky")]
     pub envmap: Option<PathBuf>,
     /// Multiplies the map's radiance [default: 1].
-    #[arg(long, value_parser = non_negative, value_name = "S", requires = "envmap")]
+    #[arg(hide = true, long, value_parser = non_negative, value_name = "S", requires = "envmap")]
     pub envmap_scale: Option<f32>,
     /// Turns the map about +y by this many degrees [default: 0].
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, requires = "envmap")]
+    #[arg(hide = true, long, value_name = "DEG", allow_negative_numbers = true, requires = "envmap")]
     pub envmap_rotate: Option<f32>,
 }
 
