@@ -6,6 +6,7 @@
 //! - the directions drawn follow bsdf_eval's density, bin by bin (a z-score per bin);
 //! - no sample gains energy (albedo <= 1), and the dielectric reflects with Fresnel's odds;
 //! - f(wo, wi) = f(wi, wo) (reciprocity) at the uniform directions;
+//!
 //! and the same for glTF metallic-roughness materials, whose measured albedos are stated.
 
 mod common;

@@ -45,7 +45,7 @@ fn error_at(image: &vkrt::integrator::Image, reference: &vkrt::integrator::Image
 }
 
 /// Pearson correlation of the errors of the pixel pairs given.
-fn error_correlation(image: &vkrt::integrator::Image, reference: &vkrt::integrator::Image, pairs: &[((u32, u32), (u32, u32))]) -> f64 {
+fn error_correlation(image: &vkrt::integrator::Image, reference: &vkrt::integrator::Image, pairs: &[PixelPair]) -> f64 {
     let e: Vec<(f64, f64)> = pairs.iter().map(|&(p, q)| (error_at(image, reference, p), error_at(image, reference, q))).collect();
     let n = e.len() as f64;
     let (ma, mb) = (e.iter().map(|p| p.0).sum::<f64>() / n, e.iter().map(|p| p.1).sum::<f64>() / n);
@@ -55,8 +55,11 @@ fn error_correlation(image: &vkrt::integrator::Image, reference: &vkrt::integrat
     cov / (va * vb).sqrt()
 }
 
+/// Two pixels, as (x, y) each.
+type PixelPair = ((u32, u32), (u32, u32));
+
 /// Horizontal neighbours (x, x + 1) split by `same(p, q)`: (pairs where it holds, the rest).
-fn neighbour_pairs(w: u32, h: u32, same: &dyn Fn((u32, u32), (u32, u32)) -> bool) -> (Vec<((u32, u32), (u32, u32))>, Vec<((u32, u32), (u32, u32))>) {
+fn neighbour_pairs(w: u32, h: u32, same: &dyn Fn((u32, u32), (u32, u32)) -> bool) -> (Vec<PixelPair>, Vec<PixelPair>) {
     let (mut yes, mut no) = (Vec::new(), Vec::new());
     for y in 0..h {
         for x in 0..w - 1 {
@@ -168,7 +171,7 @@ fn group_mates_draw_the_same_numbers(sampler: SamplerKind) {
         }
     }
     let mates: Vec<_> = groups.values().flat_map(|g| g.windows(2).map(|m| (m[0], m[1]))).collect();
-    let same = |pairs: &[((u32, u32), (u32, u32))]| pairs.iter().filter(|&&(p, q)| image.get(p.0, p.1) == image.get(q.0, q.1)).count() as f64 / pairs.len() as f64;
+    let same = |pairs: &[PixelPair]| pairs.iter().filter(|&&(p, q)| image.get(p.0, p.1) == image.get(q.0, q.1)).count() as f64 / pairs.len() as f64;
     let (neighbours, _) = neighbour_pairs(w, h, &|_, _| true);
     let (mates_same, neighbours_same) = (same(&mates), same(&neighbours));
     eprintln!("{sampler:?}: equal values: {:.1} % of {} group-mate pairs, {:.1} % of horizontal neighbours", mates_same * 100.0, mates.len(), neighbours_same * 100.0);

@@ -72,8 +72,9 @@ pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuParentNode>> {
     Ok(out)
 }
 
-/// Where the walk came from (Hapala et al. 2011, fig. 2).
+/// Where the walk came from (Hapala et al. 2011, fig. 2; the paper's state names).
 #[derive(Clone, Copy, PartialEq, Eq)]
+#[allow(clippy::enum_variant_names)]
 enum State {
     FromParent,
     FromSibling,

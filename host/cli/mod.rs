@@ -50,7 +50,7 @@ pub fn render_help_expert() -> String {
 pub enum Command {
     /// Render a scene (.obj, lab .yaml, glTF .gltf/.glb) to an image (.png, .exr or .pfm).
     #[command(after_help = RENDER_AFTER_HELP)]
-    Render(render::RenderArgs),
+    Render(Box<render::RenderArgs>),
     /// List the Vulkan devices and the limits that matter to vkrt.
     Info(DeviceArgs),
     /// Batch ray queries without rendering: rays from an .npy file, hits to an .npy file.

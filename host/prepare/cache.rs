@@ -187,10 +187,7 @@ pub fn prepare_scene(
     cache: Option<&Cache>,
     warn: &mut dyn FnMut(String),
 ) -> Result<(Prepared, CacheOutcome, Option<Storing>, f64)> {
-    let entry = match cache {
-        Some(c) => Some(c.dir.join(format!("{:032x}.{EXTENSION}", entry_key(scene_path, options)))),
-        None => None,
-    };
+    let entry = cache.map(|c| c.dir.join(format!("{:032x}.{EXTENSION}", entry_key(scene_path, options))));
     if let Some(entry) = &entry {
         if entry.exists() {
             let start = Instant::now();

@@ -27,6 +27,7 @@ use glam::Vec3;
 ///   1 inside the inner one, and between them ((cos - cos_outer) / (cos_inner - cos_outer))^2,
 ///   the square of a ramp linear in the cosine.
 /// - Emissive triangles: radiance Ke from the front face, sampled by area.
+///
 /// All are picked for light sampling in proportion to their power (`prepare::light_table`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {

@@ -316,8 +316,11 @@ impl Part {
                         NodeKind::Leaf { first: f, count } => NodeKind::Leaf { first: f + first as u32, count },
                     },
                 };
-                nodes[at] = moved(&local[0]);
-                nodes.extend(local[1..].iter().map(moved));
+                let mut placed = local.iter().map(moved);
+                if let Some(root) = placed.next() {
+                    nodes[at] = root;
+                }
+                nodes.extend(placed);
             }
         }
     }
