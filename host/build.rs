@@ -98,7 +98,11 @@ fn compile_all(list: &[Variant], shaders: &Path, generated: &Path) -> Result<(),
             .collect();
         workers.into_iter().flat_map(|w| w.join().unwrap_or_else(|_| vec!["a shader compile thread panicked".into()])).collect()
     });
-    if errors.is_empty() { Ok(()) } else { Err(errors.join("\n")) }
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(errors.join("\n"))
+    }
 }
 
 fn compile(glslang: &str, v: &Variant, shaders: &Path, generated: &Path) -> Result<(), String> {

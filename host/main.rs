@@ -19,11 +19,8 @@ fn main() -> ExitCode {
             // reminder), exit status 1.
             _ => {
                 let text = e.to_string();
-                let message: Vec<&str> = text
-                    .lines()
-                    .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
-                    .filter(|l| !l.trim().is_empty())
-                    .collect();
+                let message: Vec<&str> =
+                    text.lines().take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information")).filter(|l| !l.trim().is_empty()).collect();
                 eprintln!("{}", message.join("\n"));
                 return ExitCode::FAILURE;
             }

@@ -72,7 +72,11 @@ fn every_module_imports_only_what_the_architecture_allows() {
         }
         let allowed = rule.get(&module).unwrap_or_else(|| panic!("module {module} is not in docs/ARCHITECTURE.md's table"));
         let mut files = Vec::new();
-        if path.is_dir() { rust_files(&path, &mut files) } else { files.push(path.clone()) }
+        if path.is_dir() {
+            rust_files(&path, &mut files)
+        } else {
+            files.push(path.clone())
+        }
         for file in files {
             for name in crate_refs(&file) {
                 if name != module && !allowed.contains(&name) {

@@ -17,9 +17,9 @@ use std::f64::consts::PI;
 use vkrt::gpu::commands::submit_and_wait;
 use vkrt::gpu::{Buffer, MemoryLocation};
 use vkrt::gpu_abi::constants::*;
-use vkrt::prepare::scene_buffers::gpu_material;
 use vkrt::gpu_abi::GpuPush;
 use vkrt::pipeline::{BindingKind, ComputePipeline};
+use vkrt::prepare::scene_buffers::gpu_material;
 use vkrt::scene::{Material, MetallicRoughness};
 
 const SAMPLES: u32 = 1 << 16;
@@ -181,13 +181,7 @@ fn check_lobes(named: &[(&'static str, Material)], albedo_ok: impl Fn(&str, f64,
             assert!(albedo_ok(name, *cos_o, albedo), "{what}: albedo {albedo}");
             // Reciprocity: f(wo, u) = f(u, wo) wherever both are above the surface.
             for p in set.iter().filter(|p| p.u[2] > 0.0) {
-                assert!(
-                    (p.f_ou - p.f_uo).abs() <= 2e-3 * p.f_ou.max(p.f_uo) + 1e-6,
-                    "{what}: f(wo, u) {} but f(u, wo) {} at u {:?}",
-                    p.f_ou,
-                    p.f_uo,
-                    p.u
-                );
+                assert!((p.f_ou - p.f_uo).abs() <= 2e-3 * p.f_ou.max(p.f_uo) + 1e-6, "{what}: f(wo, u) {} but f(u, wo) {} at u {:?}", p.f_ou, p.f_uo, p.u);
             }
             // A near-delta lobe (GGX alpha 1e-3) covers too little of the sphere for uniform
             // directions to integrate or bin its density: only 1, 2 and reciprocity hold there.

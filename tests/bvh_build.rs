@@ -11,8 +11,8 @@ use glam::Vec3;
 use vkrt::bvh::sah::sah_cost;
 use vkrt::bvh::stats::{stats, BvhStats};
 use vkrt::bvh::validate::validate;
-use vkrt::geom::Aabb;
 use vkrt::bvh::{build, BuildConfig, BuilderKind, Bvh, Node, NodeKind, MAX_LEAF_SIZE};
+use vkrt::geom::Aabb;
 
 const BUILDERS: [BuilderKind; 4] = BuilderKind::ALL;
 
@@ -31,11 +31,7 @@ fn random_soup(n: usize, seed: u64) -> Vec<Tri> {
     let clusters: Vec<Vec3> = (0..5).map(|_| rng.vec3()).collect();
     (0..n)
         .map(|i| {
-            let centre = if i % 2 == 0 {
-                rng.vec3()
-            } else {
-                clusters[rng.below(clusters.len())] + (rng.vec3() - 0.5) * 0.05
-            };
+            let centre = if i % 2 == 0 { rng.vec3() } else { clusters[rng.below(clusters.len())] + (rng.vec3() - 0.5) * 0.05 };
             let size = 0.001 + 0.1 * rng.f32().powi(4);
             [0, 1, 2].map(|_| centre + (rng.vec3() - 0.5) * size)
         })
@@ -43,9 +39,7 @@ fn random_soup(n: usize, seed: u64) -> Vec<Tri> {
 }
 
 fn tri_boxes(tris: &[Tri]) -> (Vec<Aabb>, Vec<Vec3>) {
-    tris.iter()
-        .map(|t| (Aabb::from_points(t), (t[0] + t[1] + t[2]) / 3.0))
-        .unzip()
+    tris.iter().map(|t| (Aabb::from_points(t), (t[0] + t[1] + t[2]) / 3.0)).unzip()
 }
 
 fn centres(boxes: &[Aabb]) -> Vec<Vec3> {
@@ -60,18 +54,11 @@ fn scene_path(rel: &str) -> String {
 /// builders only need positions.
 fn load_obj(rel: &str) -> Vec<Tri> {
     let path = scene_path(rel);
-    let (models, _materials) = tobj::load_obj(&path, &tobj::GPU_LOAD_OPTIONS)
-        .unwrap_or_else(|e| panic!("loading {path}: {e}"));
+    let (models, _materials) = tobj::load_obj(&path, &tobj::GPU_LOAD_OPTIONS).unwrap_or_else(|e| panic!("loading {path}: {e}"));
     let mut tris = Vec::new();
     for m in &models {
         let p = &m.mesh.positions;
-        let vertex = |i: u32| {
-            Vec3::new(
-                p[3 * i as usize],
-                p[3 * i as usize + 1],
-                p[3 * i as usize + 2],
-            )
-        };
+        let vertex = |i: u32| Vec3::new(p[3 * i as usize], p[3 * i as usize + 1], p[3 * i as usize + 2]);
         for f in m.mesh.indices.chunks_exact(3) {
             tris.push([vertex(f[0]), vertex(f[1]), vertex(f[2])]);
         }
@@ -86,18 +73,11 @@ fn load_obj(rel: &str) -> Vec<Tri> {
 fn build_valid(kind: BuilderKind, boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     let bvh = build(kind, boxes, centroids, config);
     if let Err(e) = validate(&bvh, boxes) {
-        panic!(
-            "{kind:?} with {config:?} on {} prims: invalid tree: {e}",
-            boxes.len()
-        );
+        panic!("{kind:?} with {config:?} on {} prims: invalid tree: {e}", boxes.len());
     }
     let s = stats(&bvh);
     let cap = config.max_leaf_size.clamp(1, MAX_LEAF_SIZE);
-    assert!(
-        s.max_leaf_size <= cap,
-        "{kind:?}: leaf of {} > max_leaf_size {cap}",
-        s.max_leaf_size
-    );
+    assert!(s.max_leaf_size <= cap, "{kind:?}: leaf of {} > max_leaf_size {cap}", s.max_leaf_size);
     assert!(s.sah_cost.is_finite(), "{kind:?}: SAH cost {}", s.sah_cost);
     assert_eq!(s.nodes, bvh.nodes.len());
     bvh
@@ -107,36 +87,13 @@ fn configs() -> Vec<BuildConfig> {
     let d = BuildConfig::default();
     vec![
         d,
-        BuildConfig {
-            max_leaf_size: 1,
-            ..d
-        },
-        BuildConfig {
-            max_leaf_size: MAX_LEAF_SIZE,
-            ..d
-        },
-        BuildConfig {
-            max_leaf_size: 0,
-            sah_bins: 0,
-            ..d
-        },
-        BuildConfig {
-            max_leaf_size: u32::MAX,
-            sah_bins: u32::MAX,
-            ..d
-        },
+        BuildConfig { max_leaf_size: 1, ..d },
+        BuildConfig { max_leaf_size: MAX_LEAF_SIZE, ..d },
+        BuildConfig { max_leaf_size: 0, sah_bins: 0, ..d },
+        BuildConfig { max_leaf_size: u32::MAX, sah_bins: u32::MAX, ..d },
         BuildConfig { sah_bins: 2, ..d },
-        BuildConfig {
-            sah_bins: 64,
-            traversal_cost: 10.0,
-            max_leaf_size: 16,
-            ..d
-        },
-        BuildConfig {
-            traversal_cost: 0.0,
-            intersection_cost: 0.0,
-            ..d
-        },
+        BuildConfig { sah_bins: 64, traversal_cost: 10.0, max_leaf_size: 16, ..d },
+        BuildConfig { traversal_cost: 0.0, intersection_cost: 0.0, ..d },
     ]
 }
 
@@ -174,23 +131,17 @@ fn closer(a: Option<(f32, u32)>, b: (f32, u32)) -> Option<(f32, u32)> {
 }
 
 fn brute_force(o: Vec3, d: Vec3, tris: &[Tri]) -> Option<(f32, u32)> {
-    tris.iter()
-        .enumerate()
-        .fold(None, |best, (i, t)| match hit_triangle(o, d, t) {
-            Some(dist) => closer(best, (dist, i as u32)),
-            None => best,
-        })
+    tris.iter().enumerate().fold(None, |best, (i, t)| match hit_triangle(o, d, t) {
+        Some(dist) => closer(best, (dist, i as u32)),
+        None => best,
+    })
 }
 
 /// Reference walker over the `Bvh` node tree, with an explicit stack.
 fn walk(bvh: &Bvh, o: Vec3, d: Vec3, tris: &[Tri], pad: f32) -> Option<(f32, u32)> {
     let inv_d = d.recip();
     let mut best: Option<(f32, u32)> = None;
-    let mut stack = if bvh.nodes.is_empty() {
-        vec![]
-    } else {
-        vec![0usize]
-    };
+    let mut stack = if bvh.nodes.is_empty() { vec![] } else { vec![0usize] };
     while let Some(i) = stack.pop() {
         let node = &bvh.nodes[i];
         match hit_box(o, inv_d, &node.bounds, pad) {
@@ -215,17 +166,8 @@ fn walk(bvh: &Bvh, o: Vec3, d: Vec3, tris: &[Tri], pad: f32) -> Option<(f32, u32
 
 /// Random rays (half aimed at a random point of a random triangle, so most hit) must find the same
 /// closest primitive through the tree as by brute force. Returns how many hit.
-fn assert_rays_agree(
-    name: &str,
-    kind: BuilderKind,
-    bvh: &Bvh,
-    tris: &[Tri],
-    rays: usize,
-    seed: u64,
-) -> usize {
-    let scene = tris
-        .iter()
-        .fold(Aabb::EMPTY, |b, t| b.union(&Aabb::from_points(t)));
+fn assert_rays_agree(name: &str, kind: BuilderKind, bvh: &Bvh, tris: &[Tri], rays: usize, seed: u64) -> usize {
+    let scene = tris.iter().fold(Aabb::EMPTY, |b, t| b.union(&Aabb::from_points(t)));
     let diag = scene.extent().length();
     let pad = 1e-5 * diag;
     let mut rng = Pcg32::new(seed);
@@ -235,11 +177,7 @@ fn assert_rays_agree(
         let target = if r % 2 == 0 {
             let t = &tris[rng.below(tris.len())];
             let (a, b) = (rng.f32(), rng.f32());
-            let (a, b) = if a + b > 1.0 {
-                (1.0 - a, 1.0 - b)
-            } else {
-                (a, b)
-            };
+            let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
             t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0])
         } else {
             scene.min + rng.vec3() * scene.extent()
@@ -258,10 +196,7 @@ fn assert_rays_agree(
 
 #[test]
 fn random_soups_validate_under_every_config() {
-    for (seed, n) in [1usize, 2, 3, 5, 17, 256, 1000, 20_000]
-        .into_iter()
-        .enumerate()
-    {
+    for (seed, n) in [1usize, 2, 3, 5, 17, 256, 1000, 20_000].into_iter().enumerate() {
         let (boxes, centroids) = tri_boxes(&random_soup(n, seed as u64));
         for config in configs() {
             for kind in BUILDERS {
@@ -276,17 +211,9 @@ fn sah_beats_median_on_random_soups() {
     for seed in 0..4 {
         let (boxes, centroids) = tri_boxes(&random_soup(20_000, 100 + seed));
         let config = BuildConfig::default();
-        let median = sah_cost(&build_valid(
-            BuilderKind::Median,
-            &boxes,
-            &centroids,
-            &config,
-        ));
+        let median = sah_cost(&build_valid(BuilderKind::Median, &boxes, &centroids, &config));
         let sah = sah_cost(&build_valid(BuilderKind::Sah, &boxes, &centroids, &config));
-        assert!(
-            sah < median,
-            "seed {seed}: SAH builder {sah} not below median {median}"
-        );
+        assert!(sah < median, "seed {seed}: SAH builder {sah} not below median {median}");
     }
 }
 
@@ -313,21 +240,11 @@ fn tree_walk_matches_brute_force_on_random_soups() {
     for (seed, n) in [(7u64, 1usize), (8, 10), (9, 5000)] {
         let tris = random_soup(n, seed);
         let (boxes, centroids) = tri_boxes(&tris);
-        for config in [
-            BuildConfig::default(),
-            BuildConfig {
-                max_leaf_size: 1,
-                sah_bins: 4,
-                ..Default::default()
-            },
-        ] {
+        for config in [BuildConfig::default(), BuildConfig { max_leaf_size: 1, sah_bins: 4, ..Default::default() }] {
             for kind in BUILDERS {
                 let bvh = build_valid(kind, &boxes, &centroids, &config);
                 let hits = assert_rays_agree("soup", kind, &bvh, &tris, 400, seed);
-                assert!(
-                    hits > 0,
-                    "soup of {n}: no ray hit anything, the check is vacuous"
-                );
+                assert!(hits > 0, "soup of {n}: no ray hit anything, the check is vacuous");
             }
         }
     }
@@ -340,10 +257,7 @@ fn tree_walk_matches_brute_force_on_random_soups() {
 fn empty_input_gives_empty_tree() {
     for kind in BUILDERS {
         let bvh = build(kind, &[], &[], &BuildConfig::default());
-        assert!(
-            bvh.nodes.is_empty() && bvh.prim_indices.is_empty(),
-            "{kind:?}: {bvh:?}"
-        );
+        assert!(bvh.nodes.is_empty() && bvh.prim_indices.is_empty(), "{kind:?}: {bvh:?}");
         assert_eq!(validate(&bvh, &[]), Ok(()));
         assert_eq!(stats(&bvh), BvhStats::default());
     }
@@ -351,19 +265,10 @@ fn empty_input_gives_empty_tree() {
 
 #[test]
 fn one_primitive_is_one_leaf() {
-    let b = Aabb {
-        min: Vec3::new(1.0, 2.0, 3.0),
-        max: Vec3::new(2.0, 3.0, 5.0),
-    };
+    let b = Aabb { min: Vec3::new(1.0, 2.0, 3.0), max: Vec3::new(2.0, 3.0, 5.0) };
     for kind in BUILDERS {
         let bvh = build_valid(kind, &[b], &[b.center()], &BuildConfig::default());
-        assert_eq!(
-            bvh.nodes,
-            vec![Node {
-                bounds: b,
-                kind: NodeKind::Leaf { first: 0, count: 1 }
-            }]
-        );
+        assert_eq!(bvh.nodes, vec![Node { bounds: b, kind: NodeKind::Leaf { first: 0, count: 1 } }]);
         assert_eq!(bvh.prim_indices, vec![0]);
     }
 }
@@ -373,46 +278,24 @@ fn one_primitive_is_one_leaf() {
 #[test]
 fn degenerate_inputs_validate_and_stay_shallow() {
     let mut rng = Pcg32::new(42);
-    let unit = Aabb {
-        min: Vec3::ZERO,
-        max: Vec3::ONE,
-    };
+    let unit = Aabb { min: Vec3::ZERO, max: Vec3::ONE };
     let identical = vec![unit; 1000];
     let nested: Vec<Aabb> = (0..1000)
         .map(|_| {
             let h = rng.vec3() + 0.01;
-            Aabb {
-                min: Vec3::splat(0.5) - h,
-                max: Vec3::splat(0.5) + h,
-            }
+            Aabb { min: Vec3::splat(0.5) - h, max: Vec3::splat(0.5) + h }
         })
         .collect();
-    let points: Vec<Aabb> = (0..1000)
-        .map(|_| Aabb::from_points(&[rng.vec3()]))
-        .collect();
-    let line: Vec<Aabb> = (0..1000)
-        .map(|_| Aabb::from_points(&[Vec3::X * rng.f32()]))
-        .collect();
-    let some_equal: Vec<Aabb> = (0..1000)
-        .map(|i| if i % 3 == 0 { unit } else { points[i] })
-        .collect();
-    for (name, boxes) in [
-        ("identical", identical),
-        ("nested", nested),
-        ("points", points),
-        ("line", line),
-        ("some_equal", some_equal),
-    ] {
+    let points: Vec<Aabb> = (0..1000).map(|_| Aabb::from_points(&[rng.vec3()])).collect();
+    let line: Vec<Aabb> = (0..1000).map(|_| Aabb::from_points(&[Vec3::X * rng.f32()])).collect();
+    let some_equal: Vec<Aabb> = (0..1000).map(|i| if i % 3 == 0 { unit } else { points[i] }).collect();
+    for (name, boxes) in [("identical", identical), ("nested", nested), ("points", points), ("line", line), ("some_equal", some_equal)] {
         let centroids = centres(&boxes);
         for config in configs() {
             for kind in BUILDERS {
                 let bvh = build_valid(kind, &boxes, &centroids, &config);
                 let s = stats(&bvh);
-                assert!(
-                    s.max_depth <= 64,
-                    "{name} {kind:?} {config:?}: depth {}",
-                    s.max_depth
-                );
+                assert!(s.max_depth <= 64, "{name} {kind:?} {config:?}: depth {}", s.max_depth);
             }
         }
     }
@@ -422,23 +305,13 @@ fn degenerate_inputs_validate_and_stay_shallow() {
 fn hundred_thousand_primitives_in_one_point() {
     let boxes = vec![Aabb::from_points(&[Vec3::new(0.25, -3.0, 7.0)]); 100_000];
     let centroids = centres(&boxes);
-    for config in [
-        BuildConfig::default(),
-        BuildConfig {
-            max_leaf_size: u32::MAX,
-            ..Default::default()
-        },
-    ] {
+    for config in [BuildConfig::default(), BuildConfig { max_leaf_size: u32::MAX, ..Default::default() }] {
         for kind in BUILDERS {
             let bvh = build_valid(kind, &boxes, &centroids, &config);
             let s = stats(&bvh);
             // Index splits halve the count each level: depth ceil(log2(100000 / leaf)) + slack.
             assert!(s.max_depth <= 20, "{kind:?}: depth {}", s.max_depth);
-            assert_eq!(
-                s.sah_cost,
-                bvh.nodes.len() as f32 - s.leaves as f32 + 100_000.0,
-                "{kind:?}"
-            );
+            assert_eq!(s.sah_cost, bvh.nodes.len() as f32 - s.leaves as f32 + 100_000.0, "{kind:?}");
         }
     }
 }
@@ -486,52 +359,24 @@ fn shared_bunny_validates_rays_agree_and_sah_beats_median() {
         costs.push(sah_cost(&bvh));
     }
     let (median, sah) = (costs[0], costs[1]);
-    assert!(
-        sah < median,
-        "bunny: SAH builder {sah} not below median {median}"
-    );
+    assert!(sah < median, "bunny: SAH builder {sah} not below median {median}");
 }
 
 // ---------------------------------------------------------------------------------------------
 // validate, sah_cost and stats themselves
 
 fn leaf(min: Vec3, max: Vec3, first: u32, count: u32) -> Node {
-    Node {
-        bounds: Aabb { min, max },
-        kind: NodeKind::Leaf { first, count },
-    }
+    Node { bounds: Aabb { min, max }, kind: NodeKind::Leaf { first, count } }
 }
 
 /// Root [0,2]x[0,1]x[0,1] over two unit-cube leaves of 1 and 2 primitives.
 fn small_tree() -> (Bvh, Vec<Aabb>) {
-    let root = Node {
-        bounds: Aabb {
-            min: Vec3::ZERO,
-            max: Vec3::new(2.0, 1.0, 1.0),
-        },
-        kind: NodeKind::Interior { left: 1, right: 2 },
-    };
-    let bvh = Bvh {
-        nodes: vec![
-            root,
-            leaf(Vec3::ZERO, Vec3::ONE, 0, 1),
-            leaf(Vec3::X, Vec3::new(2.0, 1.0, 1.0), 1, 2),
-        ],
-        prim_indices: vec![2, 0, 1],
-    };
+    let root = Node { bounds: Aabb { min: Vec3::ZERO, max: Vec3::new(2.0, 1.0, 1.0) }, kind: NodeKind::Interior { left: 1, right: 2 } };
+    let bvh = Bvh { nodes: vec![root, leaf(Vec3::ZERO, Vec3::ONE, 0, 1), leaf(Vec3::X, Vec3::new(2.0, 1.0, 1.0), 1, 2)], prim_indices: vec![2, 0, 1] };
     let boxes = vec![
-        Aabb {
-            min: Vec3::X,
-            max: Vec3::new(1.5, 1.0, 1.0),
-        },
-        Aabb {
-            min: Vec3::new(1.5, 0.0, 0.0),
-            max: Vec3::new(2.0, 1.0, 1.0),
-        },
-        Aabb {
-            min: Vec3::ZERO,
-            max: Vec3::ONE,
-        },
+        Aabb { min: Vec3::X, max: Vec3::new(1.5, 1.0, 1.0) },
+        Aabb { min: Vec3::new(1.5, 0.0, 0.0), max: Vec3::new(2.0, 1.0, 1.0) },
+        Aabb { min: Vec3::ZERO, max: Vec3::ONE },
     ];
     (bvh, boxes)
 }
@@ -543,10 +388,7 @@ fn sah_cost_and_stats_of_a_known_tree() {
     // Root area 10, leaves 6 each: 1 + 6/10 * 1 + 6/10 * 2.
     assert!((sah_cost(&bvh) - 2.8).abs() < 1e-6, "{}", sah_cost(&bvh));
     let s = stats(&bvh);
-    assert_eq!(
-        (s.nodes, s.leaves, s.max_depth, s.max_leaf_size),
-        (3, 2, 1, 2)
-    );
+    assert_eq!((s.nodes, s.leaves, s.max_depth, s.max_leaf_size), (3, 2, 1, 2));
     assert_eq!(s.avg_leaf_size, 1.5);
 }
 
@@ -556,52 +398,22 @@ fn validate_rejects_broken_trees() {
     type Breakage = Box<dyn Fn(&mut Bvh)>;
     let broken: Vec<(&str, Breakage)> = vec![
         ("duplicate primitive", Box::new(|b| b.prim_indices[0] = 0)),
-        (
-            "primitive out of range",
-            Box::new(|b| b.prim_indices[0] = 3),
-        ),
+        ("primitive out of range", Box::new(|b| b.prim_indices[0] = 3)),
         (
             "missing primitive",
             Box::new(|b| {
                 b.prim_indices.pop();
             }),
         ),
-        (
-            "empty leaf",
-            Box::new(|b| b.nodes[2].kind = NodeKind::Leaf { first: 1, count: 0 }),
-        ),
-        (
-            "leaf past the end",
-            Box::new(|b| b.nodes[2].kind = NodeKind::Leaf { first: 2, count: 2 }),
-        ),
-        (
-            "overlapping leaves",
-            Box::new(|b| b.nodes[1].kind = NodeKind::Leaf { first: 0, count: 2 }),
-        ),
-        (
-            "child outside parent",
-            Box::new(|b| b.nodes[1].bounds.min.y = -1.0),
-        ),
-        (
-            "leaf misses its box",
-            Box::new(|b| b.nodes[2].bounds.max.x = 1.9),
-        ),
-        (
-            "NaN bounds",
-            Box::new(|b| b.nodes[0].bounds.min.x = f32::NAN),
-        ),
-        (
-            "shared child",
-            Box::new(|b| b.nodes[0].kind = NodeKind::Interior { left: 1, right: 1 }),
-        ),
-        (
-            "cycle",
-            Box::new(|b| b.nodes[0].kind = NodeKind::Interior { left: 1, right: 0 }),
-        ),
-        (
-            "child out of range",
-            Box::new(|b| b.nodes[0].kind = NodeKind::Interior { left: 1, right: 9 }),
-        ),
+        ("empty leaf", Box::new(|b| b.nodes[2].kind = NodeKind::Leaf { first: 1, count: 0 })),
+        ("leaf past the end", Box::new(|b| b.nodes[2].kind = NodeKind::Leaf { first: 2, count: 2 })),
+        ("overlapping leaves", Box::new(|b| b.nodes[1].kind = NodeKind::Leaf { first: 0, count: 2 })),
+        ("child outside parent", Box::new(|b| b.nodes[1].bounds.min.y = -1.0)),
+        ("leaf misses its box", Box::new(|b| b.nodes[2].bounds.max.x = 1.9)),
+        ("NaN bounds", Box::new(|b| b.nodes[0].bounds.min.x = f32::NAN)),
+        ("shared child", Box::new(|b| b.nodes[0].kind = NodeKind::Interior { left: 1, right: 1 })),
+        ("cycle", Box::new(|b| b.nodes[0].kind = NodeKind::Interior { left: 1, right: 0 })),
+        ("child out of range", Box::new(|b| b.nodes[0].kind = NodeKind::Interior { left: 1, right: 9 })),
         ("orphan node", Box::new(|b| b.nodes.push(b.nodes[1]))),
         ("no nodes", Box::new(|b| b.nodes.clear())),
         (
@@ -615,21 +427,8 @@ fn validate_rejects_broken_trees() {
     for (what, break_it) in broken {
         let mut bvh = good.clone();
         break_it(&mut bvh);
-        let boxes = if what == "leaf too big" {
-            vec![
-                Aabb {
-                    min: Vec3::ZERO,
-                    max: Vec3::ONE
-                };
-                256
-            ]
-        } else {
-            boxes.clone()
-        };
-        assert!(
-            validate(&bvh, &boxes).is_err(),
-            "validate accepted a tree with {what}"
-        );
+        let boxes = if what == "leaf too big" { vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 256] } else { boxes.clone() };
+        assert!(validate(&bvh, &boxes).is_err(), "validate accepted a tree with {what}");
         stats(&bvh); // must not hang or panic on a malformed tree
     }
 }

@@ -73,12 +73,30 @@ fn box_with_a_glossy_ball(test: &str) -> vkrt::scene::Scene {
         usemtl white\n\
         f {} {} {} {}\nf {} {} {} {}\nf {} {} {} {}\nf {} {} {} {}\nf {} {} {} {}\n\
         usemtl light\nf {} {} {} {}\n",
-        w(1), w(4), w(3), w(2),
-        w(5), w(6), w(7), w(8),
-        w(1), w(2), w(6), w(5),
-        w(1), w(5), w(8), w(4),
-        w(2), w(3), w(7), w(6),
-        w(9), w(10), w(11), w(12)
+        w(1),
+        w(4),
+        w(3),
+        w(2),
+        w(5),
+        w(6),
+        w(7),
+        w(8),
+        w(1),
+        w(2),
+        w(6),
+        w(5),
+        w(1),
+        w(5),
+        w(8),
+        w(4),
+        w(2),
+        w(3),
+        w(7),
+        w(6),
+        w(9),
+        w(10),
+        w(11),
+        w(12)
     );
     common::noise::load_obj_text(&format!("casters_{test}"), &obj, mtl)
 }

@@ -156,7 +156,22 @@ fn corrupt_or_mismatched_checkpoints_are_clear_errors() {
         args.push(ck.to_str().unwrap());
         vkrt(&args)
     };
-    let o = vkrt(&["render", &scene, "--integrator", "path", "--width", "8", "--height", "8", "--spp", "2", "--checkpoint", ckpt.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = vkrt(&[
+        "render",
+        &scene,
+        "--integrator",
+        "path",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--spp",
+        "2",
+        "--checkpoint",
+        ckpt.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let good = std::fs::read(&ckpt).unwrap();
     std::fs::write(&out, b"previous output").unwrap();
@@ -279,10 +294,7 @@ fn render_help_shows_at_most_25_grouped_options_each_run_by_a_test() {
     for a in &visible {
         let long = format!("\"--{}\"", a.get_long().unwrap_or_default());
         let short = a.get_short().map(|c| format!("\"-{c}\""));
-        assert!(
-            sources.contains(&long) || short.is_some_and(|s| sources.contains(&s)),
-            "no test runs the binary with {long}"
-        );
+        assert!(sources.contains(&long) || short.is_some_and(|s| sources.contains(&s)), "no test runs the binary with {long}");
     }
     let help = String::from_utf8_lossy(&vkrt(&["render", "--help"]).stdout).into_owned();
     assert!(help.contains("--help-expert"), "render --help does not say where the other flags are");
@@ -294,9 +306,8 @@ fn render_help_shows_at_most_25_grouped_options_each_run_by_a_test() {
     }
     let hidden: Vec<&clap::Arg> = options.iter().copied().filter(|a| a.is_hide_set()).collect();
     // An option's line starts with its flags (`  -o, --output <FILE>`); descriptions may name others.
-    let listed = |text: &str, name: &str| {
-        text.lines().map(str::trim_start).any(|l| l.split_whitespace().any(|w| w.trim_end_matches(',') == name) && l.starts_with('-'))
-    };
+    let listed =
+        |text: &str, name: &str| text.lines().map(str::trim_start).any(|l| l.split_whitespace().any(|w| w.trim_end_matches(',') == name) && l.starts_with('-'));
     for name in names(&hidden) {
         assert!(!listed(&help, &name), "--help lists {name}");
         assert!(listed(&expert, &name), "--help-expert does not list {name}");

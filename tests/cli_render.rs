@@ -49,7 +49,16 @@ fn path_tracer_flags_select_it_or_are_an_error_under_whitted() {
     let out = file(&dir, "a.exr");
     let scene = repo(LAB_CORNELL);
     // Under an explicit --integrator whitted every path-tracer flag is refused by name.
-    for flags in [&["--resume", "x.ckpt"][..], &["--time", "1"], &["--checkpoint", "c.ckpt"], &["--target-relmse", "0.1"], &["--sampler", "independent"], &["--adaptive"], &["--no-nee"], &["--connections", "on"]] {
+    for flags in [
+        &["--resume", "x.ckpt"][..],
+        &["--time", "1"],
+        &["--checkpoint", "c.ckpt"],
+        &["--target-relmse", "0.1"],
+        &["--sampler", "independent"],
+        &["--adaptive"],
+        &["--no-nee"],
+        &["--connections", "on"],
+    ] {
         let mut args = vec!["render", scene.as_str(), "-o", out.as_str(), "--integrator", "whitted"];
         args.extend_from_slice(flags);
         fails(&vkrt(&args), &format!("{} needs --integrator path", flags[0]));
@@ -111,10 +120,10 @@ fn the_camera_comes_from_the_command_line_and_verbose_prints_it_as_flags() {
     assert!(camera_line(&err).join(" ").contains("--fov 60"), "{err}");
     assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&c).unwrap());
     // --camera N picks among the file's cameras.
-    let yaml = std::fs::read_to_string(common::repo_path(LAB_CORNELL)).unwrap().replace("\r\n", "\n").replace(
-        "Cameras:\n",
-        "Cameras:\n  - Eye: [278, 400, -600]\n    Target: [278, 273, 0]\n    Up: [0, 1, 0]\n    Fovy: 50\n",
-    );
+    let yaml = std::fs::read_to_string(common::repo_path(LAB_CORNELL))
+        .unwrap()
+        .replace("\r\n", "\n")
+        .replace("Cameras:\n", "Cameras:\n  - Eye: [278, 400, -600]\n    Target: [278, 273, 0]\n    Up: [0, 1, 0]\n    Fovy: 50\n");
     let two = dir.join("two.yaml");
     std::fs::write(&two, yaml).unwrap();
     for f in ["left.obj", "right.obj", "wall.obj", "light.obj", "short_block.obj", "tall_block.obj"] {
@@ -256,7 +265,24 @@ fn resume_continues_a_run_from_its_checkpoint_alone() {
     let (ckpt, out, straight) = (file(&dir, "run.ckpt"), file(&dir, "run.exr"), file(&dir, "straight.exr"));
     // Sobol: a run extended past its --spp continues the very samples one longer run draws. (The
     // default zsobol's sets are the run's spp rounded up: extended, it draws new sets.)
-    let settings = ["--integrator", "path", "--width", "24", "--height", "16", "--seed", "3", "--sky", "0.1,0.1,0.1", "--eye", "278,273,-700", "--target", "278,260,0", "--sampler", "sobol"];
+    let settings = [
+        "--integrator",
+        "path",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--seed",
+        "3",
+        "--sky",
+        "0.1,0.1,0.1",
+        "--eye",
+        "278,273,-700",
+        "--target",
+        "278,260,0",
+        "--sampler",
+        "sobol",
+    ];
     let mut first = vec!["render", &scene, "-o", &out, "--spp", "4", "--checkpoint", &ckpt];
     first.extend_from_slice(&settings);
     ok(&vkrt(&first));
@@ -306,7 +332,22 @@ fn names_and_help_are_consistent() {
     }
     // Tables name builders as the flags do.
     let dir = common::scratch_dir("cli16-names");
-    let o = vkrt(&["bvh", &repo(MEASURED), "--format", "csv", "--width", "8", "--height", "8", "--repeat", "1", "--builders", "sah,sweep-sah", "--layouts", "threaded"]);
+    let o = vkrt(&[
+        "bvh",
+        &repo(MEASURED),
+        "--format",
+        "csv",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--repeat",
+        "1",
+        "--builders",
+        "sah,sweep-sah",
+        "--layouts",
+        "threaded",
+    ]);
     let csv = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(o.status.success() && csv.contains(",sah,") && csv.contains(",sweep-sah,") && !csv.contains("SweepSah"), "{csv}");
     // compare: a difference picture and JSON.
@@ -320,7 +361,11 @@ fn names_and_help_are_consistent() {
     assert!(image::open(&diff).is_ok(), "no difference picture");
     // trace takes -o like every other command.
     let rays = dir.join("rays.npy");
-    vkrt::output::npy::write_rays(&rays, &[vkrt::gpu_abi::GpuRay { origin: [278.0, 273.0, -500.0], tmin: 0.0, direction: [0.0, 0.0, 1.0], tmax: f32::INFINITY }]).unwrap();
+    vkrt::output::npy::write_rays(
+        &rays,
+        &[vkrt::gpu_abi::GpuRay { origin: [278.0, 273.0, -500.0], tmin: 0.0, direction: [0.0, 0.0, 1.0], tmax: f32::INFINITY }],
+    )
+    .unwrap();
     ok(&vkrt(&["trace", &repo(MEASURED), "--rays", rays.to_str().unwrap(), "-o", &file(&dir, "hits.npy")]));
     assert!(dir.join("hits.npy").exists());
 }

@@ -3,16 +3,16 @@
 
 mod common;
 
+use common::procedural::scene_of;
 use common::Pcg;
 use glam::Vec3;
-use vkrt::bvh::{self, BuildConfig, BuilderKind};
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
-use vkrt::query::ray_query::trace_rays;
-use vkrt::gpu_abi::constants::PRIM_NONE;
 use vkrt::accel::leaf;
 use vkrt::accel::LayoutKind;
+use vkrt::bvh::{self, BuildConfig, BuilderKind};
+use vkrt::gpu_abi::constants::PRIM_NONE;
 use vkrt::gpu_abi::{GpuHit, GpuRay};
-use common::procedural::scene_of;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::query::ray_query::trace_rays;
 use vkrt::scene::{Scene, Triangle};
 
 fn tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Triangle {
@@ -103,16 +103,26 @@ fn degenerate_scenes_build_and_trace() {
         ("one triangle", vec![tri([0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [0.0, 1.0, 0.5])]),
         ("needles", (0..100).map(|k| needle(k as f32 * 0.01)).collect()),
         // Different triangles, one shared centroid: the builders must split by index.
-        ("shared centroid", (0..500).map(|k| {
-            let a = k as f32 * 0.1;
-            let (s, c) = (a.sin() * 0.4, a.cos() * 0.4);
-            tri([0.5 + s, 0.5 + c, 0.5], [0.5 - s, 0.5 - c, 0.5 + 0.2], [0.5, 0.5, 0.5 - 0.2])
-        }).collect()),
+        (
+            "shared centroid",
+            (0..500)
+                .map(|k| {
+                    let a = k as f32 * 0.1;
+                    let (s, c) = (a.sin() * 0.4, a.cos() * 0.4);
+                    tri([0.5 + s, 0.5 + c, 0.5], [0.5 - s, 0.5 - c, 0.5 + 0.2], [0.5, 0.5, 0.5 - 0.2])
+                })
+                .collect(),
+        ),
         // Coplanar, overlapping sheets: the same quad ten times over, and shifted copies.
-        ("coplanar sheets", (0..10).flat_map(|k| {
-            let d = k as f32 * 0.05;
-            [tri([d, 0.0, 0.5], [1.0 + d, 0.0, 0.5], [d, 1.0, 0.5]), tri([0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [0.0, 1.0, 0.5])]
-        }).collect()),
+        (
+            "coplanar sheets",
+            (0..10)
+                .flat_map(|k| {
+                    let d = k as f32 * 0.05;
+                    [tri([d, 0.0, 0.5], [1.0 + d, 0.0, 0.5], [d, 1.0, 0.5]), tri([0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [0.0, 1.0, 0.5])]
+                })
+                .collect(),
+        ),
     ];
     for (name, tris) in cases {
         let scene = scene_of(tris);

@@ -45,7 +45,11 @@ fn pairs() -> Vec<[f32; 2]> {
     let mut v = Vec::new();
     let random = |rng: &mut common::Pcg, lo: f32, hi: f32| {
         let x = 2f32.powf(rng.range(lo, hi)) * (1.0 + rng.f32());
-        if rng.next_u32() % 2 == 0 { x } else { -x }
+        if rng.next_u32() % 2 == 0 {
+            x
+        } else {
+            -x
+        }
     };
     for _ in 0..400_000 {
         v.push([random(&mut rng, -12.0, 12.0), random(&mut rng, -12.0, 12.0)]);

@@ -55,11 +55,8 @@ fn child_trs_under_parent_matrix_gives_exact_world_positions() {
     let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
     // Child: translate (0, 1, 0) after a quarter turn about +z.
     let rotation = Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
-    let child = doc.node(json::Node {
-        translation: Some([0.0, 1.0, 0.0]),
-        rotation: Some(json::scene::UnitQuaternion(rotation.to_array())),
-        ..mesh_node(mesh)
-    });
+    let child =
+        doc.node(json::Node { translation: Some([0.0, 1.0, 0.0]), rotation: Some(json::scene::UnitQuaternion(rotation.to_array())), ..mesh_node(mesh) });
     // Parent: scale 2, then translate (10, 0, 0), as a column-major matrix.
     let parent_m = Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0)) * Mat4::from_scale(Vec3::splat(2.0));
     let parent = doc.node(json::Node { matrix: Some(parent_m.to_cols_array()), children: Some(vec![child]), ..Default::default() });
@@ -220,14 +217,7 @@ fn perspective(yfov: f32) -> json::Camera {
     json::Camera {
         name: None,
         orthographic: None,
-        perspective: Some(json::camera::Perspective {
-            aspect_ratio: Some(1.0),
-            yfov,
-            zfar: None,
-            znear: 0.01,
-            extensions: None,
-            extras: Default::default(),
-        }),
+        perspective: Some(json::camera::Perspective { aspect_ratio: Some(1.0), yfov, zfar: None, znear: 0.01, extensions: None, extras: Default::default() }),
         type_: Valid(json::camera::Type::Perspective),
         extensions: None,
         extras: Default::default(),
@@ -235,16 +225,7 @@ fn perspective(yfov: f32) -> json::Camera {
 }
 
 fn light(type_: khr::Type, intensity: f32, spot: Option<khr::Spot>) -> khr::Light {
-    khr::Light {
-        color: [1.0, 1.0, 1.0],
-        extensions: None,
-        extras: Default::default(),
-        intensity,
-        name: None,
-        range: None,
-        spot,
-        type_: Valid(type_),
-    }
+    khr::Light { color: [1.0, 1.0, 1.0], extensions: None, extras: Default::default(), intensity, name: None, range: None, spot, type_: Valid(type_) }
 }
 
 /// Two cameras; the CLI's `--camera 1` renders from the second, `--camera 2` is refused.
@@ -456,10 +437,7 @@ fn tangents_are_kept_per_triangle_and_flip_handedness_when_mirrored() {
         assert!(t.iter().all(|t| t.abs_diff_eq(Vec4::new(-1.0, 0.0, 0.0, -1.0), 1e-6)), "mirrored: {t:?}");
     }
     // Without TANGENT in the file, MikkTSpace (scene::tangents) fills them in: unit, with a sign.
-    assert!(
-        scene.tangents[4..].iter().flatten().all(|t| (t.truncate().length() - 1.0).abs() < 1e-4 && t.w.abs() == 1.0),
-        "no TANGENT: MikkTSpace's"
-    );
+    assert!(scene.tangents[4..].iter().flatten().all(|t| (t.truncate().length() - 1.0).abs() < 1e-4 && t.w.abs() == 1.0), "no TANGENT: MikkTSpace's");
 
     // Without a normal map, no tangents at all.
     let mut doc = Doc::new();
@@ -566,7 +544,11 @@ fn files_the_gltf_crate_would_panic_on_are_errors_naming_file_and_location() {
     let mesh = doc.mesh(vec![prim]);
     doc.scene_with_mesh(mesh);
     doc.write_gltf(&dir.join("float_indices.gltf"), Storage::DataUri);
-    assert_fails_naming(&dir.join("float_indices.gltf"), "meshes[0].primitives[0]", "indices accessor 1 is FLOAT, not UNSIGNED_BYTE or UNSIGNED_SHORT or UNSIGNED_INT");
+    assert_fails_naming(
+        &dir.join("float_indices.gltf"),
+        "meshes[0].primitives[0]",
+        "indices accessor 1 is FLOAT, not UNSIGNED_BYTE or UNSIGNED_SHORT or UNSIGNED_INT",
+    );
 
     // Texture coordinates as signed bytes (the crate's reader knows FLOAT and unsigned only).
     let mut doc = Doc::new();
@@ -640,7 +622,9 @@ fn the_readme_showcase_loads_with_its_features_and_renders_in_both_integrators()
     assert!(!scene.stats.default_light, "the file has lights of its own");
     assert_eq!(scene.lights.len(), 3, "spot, point and directional");
     let f = Features::of(&scene);
-    for on in [features::TEXTURES, features::METALLIC_ROUGHNESS, features::NORMAL_MAP, features::EMITTERS, features::POINT, features::DIRECTIONAL, features::CONE] {
+    for on in
+        [features::TEXTURES, features::METALLIC_ROUGHNESS, features::NORMAL_MAP, features::EMITTERS, features::POINT, features::DIRECTIONAL, features::CONE]
+    {
         assert!(f.has(on), "{} is off:\n{}", on.name, f.report());
     }
     assert_near("camera eye", scene.camera.eye, Vec3::new(0.0, 1.5, 4.2));

@@ -12,10 +12,10 @@
 mod common;
 
 use vkrt::bvh::BuilderKind;
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::{whitted, Image, RenderSettings};
 use vkrt::output::compare::compare;
 use vkrt::output::{read_image, write_image};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 
 const GOLDEN_MAX_RELMSE: f64 = 1e-4;
 const GOLDEN_MAX_BAD_FRACTION: f64 = 0.002;
@@ -39,8 +39,7 @@ fn check_golden(name: &str, actual: &Image) {
         eprintln!("updated {}", reference_path.display());
         return;
     }
-    let reference = read_image(&reference_path)
-        .unwrap_or_else(|e| panic!("{e:#}: make it with VKRT_UPDATE_GOLDEN=1 cargo test --test golden"));
+    let reference = read_image(&reference_path).unwrap_or_else(|e| panic!("{e:#}: make it with VKRT_UPDATE_GOLDEN=1 cargo test --test golden"));
     let c = compare(actual, &reference).unwrap();
     let bad = actual
         .pixels
@@ -57,12 +56,7 @@ fn check_golden(name: &str, actual: &Image) {
         let diff = Image {
             width: actual.width,
             height: actual.height,
-            pixels: actual
-                .pixels
-                .iter()
-                .zip(&reference.pixels)
-                .map(|(a, b)| [0, 1, 2].map(|k| (a[k] - b[k]).abs() * 10.0))
-                .collect(),
+            pixels: actual.pixels.iter().zip(&reference.pixels).map(|(a, b)| [0, 1, 2].map(|k| (a[k] - b[k]).abs() * 10.0)).collect(),
         };
         write_image(&dir.join(format!("{name}.diff-x10.png")), &diff).unwrap();
         panic!(

@@ -53,12 +53,7 @@ fn every_layout_node_matches_its_glsl_mirror() {
         let name = layout.node_struct;
         let node = rust.get(name).unwrap_or_else(|| panic!("layout {}: no GPU struct {name} in gpu_abi", layout.name));
         check_struct(&spirv_structs(&module), node);
-        let nodes = module
-            .global_variables
-            .iter()
-            .find(|(_, v)| module.types[v.ty].name.as_deref() == Some("Nodes"))
-            .map(|(_, v)| v)
-            .expect("the Nodes block");
+        let nodes = module.global_variables.iter().find(|(_, v)| module.types[v.ty].name.as_deref() == Some("Nodes")).map(|(_, v)| v).expect("the Nodes block");
         assert_eq!(nodes.binding.as_ref().map(|b| b.binding), Some(BINDING_NODES));
         let naga::TypeInner::Struct { members, .. } = &module.types[nodes.ty].inner else { panic!("Nodes is not a block") };
         let naga::TypeInner::Array { base, stride, .. } = &module.types[members[0].ty].inner else { panic!("Nodes holds no array") };
@@ -193,12 +188,8 @@ fn every_shader_variant_passes_spirv_val() {
 #[test]
 fn the_triangle_list_block_holds_what_is_uploaded() {
     let module = probe_module();
-    let var = module
-        .global_variables
-        .iter()
-        .map(|(_, v)| v)
-        .find(|v| module.types[v.ty].name.as_deref() == Some("TriangleList"))
-        .expect("the TriangleList block");
+    let var =
+        module.global_variables.iter().map(|(_, v)| v).find(|v| module.types[v.ty].name.as_deref() == Some("TriangleList")).expect("the TriangleList block");
     let naga::TypeInner::Struct { members, .. } = &module.types[var.ty].inner else { panic!("TriangleList is not a block") };
     let naga::TypeInner::Array { base, size, .. } = &module.types[members[0].ty].inner else { panic!("TriangleList holds no array") };
     assert_eq!(module.types[*base].name.as_deref(), Some("GpuTriangle"));

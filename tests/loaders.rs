@@ -5,9 +5,9 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
+use common::procedural;
 use glam::Vec3;
 use vkrt::error::InputError;
-use common::procedural;
 use vkrt::scene::{load_scene, Camera, Light, Scene};
 
 /// A scene kept in this repository (`scenes/`).
@@ -44,11 +44,7 @@ fn load_err(path: &Path) -> (String, InputError) {
         Err(e) => e,
     };
     let text = format!("{err:#}");
-    let input = err
-        .chain()
-        .find_map(|c| c.downcast_ref::<InputError>())
-        .unwrap_or_else(|| panic!("no InputError in: {text}"))
-        .clone();
+    let input = err.chain().find_map(|c| c.downcast_ref::<InputError>()).unwrap_or_else(|| panic!("no InputError in: {text}")).clone();
     (text, input)
 }
 
@@ -107,18 +103,9 @@ fn lab_cornell_box() {
     assert!(s.stats.warnings.is_empty(), "{:?}", s.stats.warnings);
     assert_eq!(
         s.camera,
-        Camera {
-            eye: Vec3::new(278.0, 273.0, -800.0),
-            target: Vec3::new(278.0, 273.0, 0.0),
-            up: Vec3::Y,
-            fov_y_deg: 39.307_648,
-            ..Camera::default()
-        }
+        Camera { eye: Vec3::new(278.0, 273.0, -800.0), target: Vec3::new(278.0, 273.0, 0.0), up: Vec3::Y, fov_y_deg: 39.307_648, ..Camera::default() }
     );
-    assert_eq!(
-        s.lights,
-        vec![Light::Point { position: Vec3::new(278.0, 520.0, 279.5), intensity: Vec3::splat(100000.0) }]
-    );
+    assert_eq!(s.lights, vec![Light::Point { position: Vec3::new(278.0, 520.0, 279.5), intensity: Vec3::splat(100000.0) }]);
     assert_eq!(s.ambient, Vec3::splat(0.05));
     assert_eq!(s.materials.len(), 4);
     let bx = material_named(&s, "box");
@@ -126,10 +113,7 @@ fn lab_cornell_box() {
     assert_eq!(material_named(&s, "left").diffuse, Vec3::new(0.5, 0.0, 0.0));
     assert!(s.emissive_triangles().is_empty());
     // Models in file order: wall.obj first, its first face `f 3//1 1//1 2//1 4//1`.
-    assert_eq!(
-        s.triangles[0].p,
-        [Vec3::new(0.0, 0.0, 559.2), Vec3::new(549.6, 0.0, 559.2), Vec3::new(552.0, 0.0, 0.0)]
-    );
+    assert_eq!(s.triangles[0].p, [Vec3::new(0.0, 0.0, 559.2), Vec3::new(549.6, 0.0, 559.2), Vec3::new(552.0, 0.0, 0.0)]);
     assert_eq!(s.triangles[0].n, Some([Vec3::Y; 3]));
     assert_eq!(s.triangles[0].material, 0);
     assert_eq!(s.triangles[29].material, 3);
@@ -157,14 +141,8 @@ fn lab_box_ver_path_area_lights() {
     }
     // Both are given counter-clockwise seen from below, so they keep the file's vertex order.
     let y = 548.788_9;
-    assert_eq!(
-        s.triangles[32].p,
-        [Vec3::new(343.0, y, 227.0), Vec3::new(343.0, y, 332.0), Vec3::new(213.0, y, 332.0)]
-    );
-    assert_eq!(
-        s.triangles[33].p,
-        [Vec3::new(343.0, y, 227.0), Vec3::new(213.0, y, 332.0), Vec3::new(213.0, y, 227.0)]
-    );
+    assert_eq!(s.triangles[32].p, [Vec3::new(343.0, y, 227.0), Vec3::new(343.0, y, 332.0), Vec3::new(213.0, y, 332.0)]);
+    assert_eq!(s.triangles[33].p, [Vec3::new(343.0, y, 227.0), Vec3::new(213.0, y, 332.0), Vec3::new(213.0, y, 227.0)]);
 }
 
 #[test]
@@ -181,10 +159,7 @@ fn shared_lab_white_oak() {
     assert_eq!(s.materials.len(), 4);
     let bark = material_named(&s, "WhiteOakBark");
     assert_eq!(bark.diffuse_map.as_deref(), Some(shared("lab/white_oak/T_WhiteOakBark_D.png").as_path()));
-    assert_eq!(
-        (bark.diffuse, bark.specular, bark.shininess, bark.ior, bark.illum),
-        (Vec3::splat(0.8), Vec3::splat(0.01), 10.0, 1.5, 2)
-    );
+    assert_eq!((bark.diffuse, bark.specular, bark.shininess, bark.ior, bark.illum), (Vec3::splat(0.8), Vec3::splat(0.01), 10.0, 1.5, 2));
     let leaves = material_named(&s, "White_Oak_Leaves_Hero_3");
     assert!(leaves.alpha_map.as_ref().unwrap().ends_with("T_White_Oak_Leaves_Hero_3_A.png"));
     // The MTL's map_d files were never shipped: the diffuse texture's alpha cuts the leaves out.
@@ -214,10 +189,7 @@ fn shared_lab_bunny_scale_translation() {
     let (a, b) = (s.bounds(), raw.bounds());
     assert!(close(a.min, b.min * 10.0 + Vec3::new(0.1, -1.0, 0.0)), "{:?} vs {:?}", a, b);
     assert!(close(a.max, b.max * 10.0 + Vec3::new(0.1, -1.0, 0.0)));
-    assert!(s
-        .triangles
-        .iter()
-        .all(|t| t.n.map_or(true, |n| n.iter().all(|v| (v.length() - 1.0).abs() < 1e-5))));
+    assert!(s.triangles.iter().all(|t| t.n.map_or(true, |n| n.iter().all(|v| (v.length() - 1.0).abs() < 1e-5))));
 }
 
 #[test]
@@ -292,12 +264,7 @@ fn shared_cornell_box_variants_negative_indices_and_quads() {
     let s = load(&shared("cornell-box/CornellBox-Original.obj"));
     assert_eq!(s.stats.dropped_degenerate, 0);
     // The floor `f -4 -3 -2 -1`, fan-triangulated: (a b c) (a c d).
-    let [a, b, c, d] = [
-        Vec3::new(-1.01, 0.0, 0.99),
-        Vec3::new(1.0, 0.0, 0.99),
-        Vec3::new(1.0, 0.0, -1.04),
-        Vec3::new(-0.99, 0.0, -1.04),
-    ];
+    let [a, b, c, d] = [Vec3::new(-1.01, 0.0, 0.99), Vec3::new(1.0, 0.0, 0.99), Vec3::new(1.0, 0.0, -1.04), Vec3::new(-0.99, 0.0, -1.04)];
     assert_eq!(s.triangles[0].p, [a, b, c]);
     assert_eq!(s.triangles[1].p, [a, c, d]);
     assert_eq!(s.materials[s.triangles[0].material as usize].name, "floor");
@@ -388,10 +355,7 @@ fn obj_normals_uvs_degenerates_comments_and_file_order() {
     assert!(t[2].uv.is_some() && t[2].n.is_none());
     assert!(t[3].uv.is_none(), "only some corners have uvs: none are trusted");
     let glow = &s.materials[t[0].material as usize];
-    assert_eq!(
-        (glow.name.as_str(), glow.emission, glow.diffuse, glow.dissolve),
-        ("glow", Vec3::new(1.0, 2.0, 3.0), Vec3::splat(0.5), 1.0)
-    );
+    assert_eq!((glow.name.as_str(), glow.emission, glow.diffuse, glow.dissolve), ("glow", Vec3::new(1.0, 2.0, 3.0), Vec3::splat(0.5), 1.0));
     assert_eq!(glow.diffuse_map.as_deref(), Some(path.parent().unwrap().join("sub/tex.png").as_path()));
     let plain = &s.materials[t[2].material as usize];
     assert_eq!((plain.shininess, plain.ior, plain.dissolve, plain.illum), (20.0, 1.33, 0.5, 7));
@@ -414,11 +378,7 @@ fn obj_missing_mtl_warns_and_uses_default_material() {
     let s = load(&path);
     assert_eq!(s.triangles.len(), 1);
     assert_eq!(s.materials[s.triangles[0].material as usize], vkrt::scene::Material::default());
-    assert!(
-        s.stats.warnings.iter().any(|w| w.contains("nowhere.mtl") && w.contains("line 1")),
-        "{:?}",
-        s.stats.warnings
-    );
+    assert!(s.stats.warnings.iter().any(|w| w.contains("nowhere.mtl") && w.contains("line 1")), "{:?}", s.stats.warnings);
 }
 
 #[test]
@@ -551,23 +511,11 @@ fn yaml_lights_materials_and_transforms() {
     assert!(s.stats.warnings.is_empty(), "{:?}", s.stats.warnings);
     assert_eq!(s.camera.fov_y_deg, 30.0);
     assert_eq!(s.lights[0], Light::Point { position: Vec3::new(0.0, 2.0, 2.0), intensity: Vec3::splat(3.0) });
-    assert_eq!(
-        s.lights[1],
-        Light::Spot {
-            position: Vec3::new(0.0, 3.0, 0.0),
-            direction: -Vec3::Y,
-            intensity: Vec3::new(1.0, 2.0, 3.0),
-            radius: 0.5
-        }
-    );
+    assert_eq!(s.lights[1], Light::Spot { position: Vec3::new(0.0, 3.0, 0.0), direction: -Vec3::Y, intensity: Vec3::new(1.0, 2.0, 3.0), radius: 0.5 });
     assert_eq!(s.ambient, Vec3::ZERO);
     let m = &s.materials[0];
     assert!(m.is_dielectric() && m.ior == 1.5);
-    assert_eq!(
-        (m.diffuse, m.specular, m.shininess),
-        (Vec3::splat(0.9), Vec3::ONE, 50.0),
-        "Shininess wins over Specular[3]"
-    );
+    assert_eq!((m.diffuse, m.specular, m.shininess), (Vec3::splat(0.9), Vec3::ONE, 50.0), "Shininess wins over Specular[3]");
     // Scale [2, -1, 1] mirrors: positions move, and the winding is flipped back so that the
     // geometric normal still agrees with the shading normal.
     let t = &s.triangles[0];
@@ -602,10 +550,7 @@ Models:
     // (p1-p0) x (p2-p0) = (1,0,0) x (0,0,1) = (0,-1,0): the first light had to be swapped.
     assert_eq!(s.triangles[1].cross().normalize(), Vec3::Y);
     assert_eq!(s.triangles[2].cross().normalize(), -Vec3::Y);
-    assert_eq!(
-        s.triangles[2].p,
-        [Vec3::new(0.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.0, 2.0, 1.0)]
-    );
+    assert_eq!(s.triangles[2].p, [Vec3::new(0.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.0, 2.0, 1.0)]);
     assert_eq!(s.emissive_triangles(), vec![1, 2]);
     // No camera: one framed on the scene.
     assert_eq!(s.camera, Camera::framing(&s.bounds()));
@@ -621,87 +566,34 @@ fn yaml_without_lights_warns_and_adds_the_default_light() {
 
 #[test]
 fn yaml_unknown_key_warns_and_still_loads() {
-    let yaml = GOOD_YAML
-        .replace("    Fovy: 30\n", "    Fovy: 30\n    Aperture: 2\n")
-        .replace("Lights:", "Fog: true\nLights:");
+    let yaml = GOOD_YAML.replace("    Fovy: 30\n", "    Fovy: 30\n    Aperture: 2\n").replace("Lights:", "Fog: true\nLights:");
     let path = yaml_scene("yaml_unknown_key", &yaml);
     let s = load(&path);
     assert_eq!(s.triangles.len(), 1);
     let w = &s.stats.warnings;
     assert_eq!(w.len(), 2, "{w:?}");
-    assert!(
-        w.iter().any(|w| w.ends_with("scene.yaml: key Cameras[0].Aperture: unknown key, ignored")),
-        "{w:?}"
-    );
+    assert!(w.iter().any(|w| w.ends_with("scene.yaml: key Cameras[0].Aperture: unknown key, ignored")), "{w:?}");
     assert!(w.iter().any(|w| w.ends_with("scene.yaml: key Fog: unknown key, ignored")), "{w:?}");
 }
 
 #[test]
 fn yaml_wrong_types() {
     let cases = [
-        (
-            "yaml_string_position",
-            "Position: [0, 2, 2]",
-            "Position: up",
-            "key Lights[0].Position",
-            "the string 'up'",
-        ),
-        (
-            "yaml_short_vector",
-            "Position: [0, 2, 2]",
-            "Position: [0, 2]",
-            "key Lights[0].Position",
-            "a list of 2",
-        ),
+        ("yaml_string_position", "Position: [0, 2, 2]", "Position: up", "key Lights[0].Position", "the string 'up'"),
+        ("yaml_short_vector", "Position: [0, 2, 2]", "Position: [0, 2]", "key Lights[0].Position", "a list of 2"),
         ("yaml_long_vector", "Eye: [0, 0, 5]", "Eye: [0, 0, 5, 1]", "key Cameras[0].Eye", "list of 3"),
-        (
-            "yaml_text_element",
-            "Intensity: [3, 3, 3]",
-            "Intensity: [3, x, 3]",
-            "key Lights[0].Intensity[1]",
-            "number",
-        ),
+        ("yaml_text_element", "Intensity: [3, 3, 3]", "Intensity: [3, x, 3]", "key Lights[0].Intensity[1]", "number"),
         ("yaml_huge", "Fovy: 30", "Fovy: 1e39", "key Cameras[0].Fovy", "f32"),
         ("yaml_nan", "Length: 0.5", "Length: .nan", "key Lights[1].Length", "NaN"),
-        (
-            "yaml_specular_5",
-            "Specular: [1, 1, 1, 100]",
-            "Specular: [1, 1, 1, 100, 1]",
-            "key Materials[0].Specular",
-            "3 or 4",
-        ),
-        (
-            "yaml_blend",
-            "Blend: Transparent",
-            "Blend: Glass",
-            "key Materials[0].Blend",
-            "Opaque or Transparent",
-        ),
+        ("yaml_specular_5", "Specular: [1, 1, 1, 100]", "Specular: [1, 1, 1, 100, 1]", "key Materials[0].Specular", "3 or 4"),
+        ("yaml_blend", "Blend: Transparent", "Blend: Glass", "key Materials[0].Blend", "Opaque or Transparent"),
         ("yaml_models_map", "Models:\n  - Mesh", "Models:\n    Mesh", "key Models", "list"),
         ("yaml_light_type", "Type: Spot", "Type: Laser", "key Lights[1].Type", "Laser"),
-        (
-            "yaml_missing_type",
-            "  - Type: Point\n    Position",
-            "  - Position",
-            "key Lights[0].Type",
-            "missing",
-        ),
-        (
-            "yaml_null_light",
-            "  - Type: Point\n    Position: [0, 2, 2]\n    Intensity: [3, 3, 3]\n",
-            "  -\n",
-            "key Lights[0]",
-            "expected a mapping",
-        ),
+        ("yaml_missing_type", "  - Type: Point\n    Position", "  - Position", "key Lights[0].Type", "missing"),
+        ("yaml_null_light", "  - Type: Point\n    Position: [0, 2, 2]\n    Intensity: [3, 3, 3]\n", "  -\n", "key Lights[0]", "expected a mapping"),
         ("yaml_missing_eye", "  - Eye: [0, 0, 5]\n    Target", "  - Target", "key Cameras[0].Eye", "missing"),
         ("yaml_bad_camera", "Target: [0, 0, 0]", "Target: [0, 0, 5]", "key Cameras[0]", "degenerate camera"),
-        (
-            "yaml_zero_direction",
-            "Direction: [0, -2, 0]",
-            "Direction: [0, 0, 0]",
-            "key Lights[1].Direction",
-            "zero",
-        ),
+        ("yaml_zero_direction", "Direction: [0, -2, 0]", "Direction: [0, 0, 0]", "key Lights[1].Direction", "zero"),
     ];
     for (test, from, to, key, what) in cases {
         let yaml = GOOD_YAML.replace(from, to);
@@ -713,8 +605,7 @@ fn yaml_wrong_types() {
 
 #[test]
 fn yaml_missing_files_and_unknown_material() {
-    let yaml =
-        GOOD_YAML.replace("Mesh: tri.obj", "Mesh: tri.obj\n    Material: glass\n  - Mesh: nowhere.obj");
+    let yaml = GOOD_YAML.replace("Mesh: tri.obj", "Mesh: tri.obj\n    Material: glass\n  - Mesh: nowhere.obj");
     let t = assert_located(&yaml_scene("yaml_missing_mesh", &yaml), "key Models[1].Mesh");
     assert!(t.contains("nowhere.obj") && t.contains("not found"), "{t}");
 
@@ -732,10 +623,7 @@ fn yaml_missing_files_and_unknown_material() {
 #[test]
 fn yaml_bad_mesh_names_the_key_and_the_obj_line() {
     let yaml = GOOD_YAML.replace("tri.obj", "bad.obj");
-    let path = write_files(
-        "yaml_bad_mesh",
-        &[("scene.yaml", yaml.as_bytes()), ("bad.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 3\n")],
-    );
+    let path = write_files("yaml_bad_mesh", &[("scene.yaml", yaml.as_bytes()), ("bad.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 3\n")]);
     let (text, e) = load_err(&path);
     assert!(text.contains("scene.yaml: key Models[0].Mesh"), "{text}");
     assert!(e.file.ends_with("bad.obj") && e.location.as_deref() == Some("line 3"), "{text}");
@@ -814,7 +702,11 @@ fn obj_files_parsed_in_chunks_keep_order_indices_materials_and_the_first_error()
         if q % 1000 == 0 {
             // Every 1000 quads the material changes: red, blue, red, ... and once an unknown
             // name, which falls back to the default material.
-            let name = match (q / 1000) % 3 { 0 => "red", 1 => "blue", _ => "nope" };
+            let name = match (q / 1000) % 3 {
+                0 => "red",
+                1 => "blue",
+                _ => "nope",
+            };
             writeln!(obj, "usemtl {name}").unwrap();
         }
         // Half the faces count back, half use absolute indices.
@@ -824,7 +716,11 @@ fn obj_files_parsed_in_chunks_keep_order_indices_materials_and_the_first_error()
             let b = 4 * q + 1;
             writeln!(obj, "f {} {} {} {}", b, b + 1, b + 2, b + 3).unwrap();
         }
-        let material = match (q / 1000) % 3 { 0 => "red", 1 => "blue", _ => "default" };
+        let material = match (q / 1000) % 3 {
+            0 => "red",
+            1 => "blue",
+            _ => "default",
+        };
         let p = corners.map(|(cx, cy)| Vec3::new(cx, cy, (q % 7) as f32));
         expected.push(([p[0], p[1], p[2]], material));
         expected.push(([p[0], p[2], p[3]], material));

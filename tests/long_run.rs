@@ -4,8 +4,8 @@
 
 mod common;
 
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::path::{self, Hooks};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 
 #[test]
 fn shared_thousands_of_batches_produce_no_nan_or_inf() {

@@ -15,10 +15,7 @@ use vkrt::scene::{Camera, Light, Material, MetallicRoughness, Scene, Texture, Tr
 fn uv_quad(z: f32, material: u32) -> [Triangle; 2] {
     let [a, b, c, d] = [Vec3::new(-50.0, -50.0, z), Vec3::new(50.0, -50.0, z), Vec3::new(50.0, 50.0, z), Vec3::new(-50.0, 50.0, z)];
     let [ta, tb, tc, td] = [Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)];
-    [
-        Triangle { p: [a, b, c], n: None, uv: Some([ta, tb, tc]), material },
-        Triangle { p: [a, c, d], n: None, uv: Some([ta, tc, td]), material },
-    ]
+    [Triangle { p: [a, b, c], n: None, uv: Some([ta, tb, tc]), material }, Triangle { p: [a, c, d], n: None, uv: Some([ta, tc, td]), material }]
 }
 
 /// A 2 x 2 texture of one RGBA texel.
@@ -101,7 +98,8 @@ fn a_constant_normal_map_shades_as_a_tilted_lambert_surface() {
     let l = Vec3::new(0.6, 0.0, 0.8);
     let (rho, e) = (0.5f32, 2.0f32);
     let material = Material { diffuse: Vec3::splat(rho), normal_texture: Some(0), normal_scale: scale, ..Material::default() };
-    let mut scene = top_view(uv_quad(0.0, 0).to_vec(), vec![material], vec![flat_texture("normal", rgba)], Light::Directional { direction: l, intensity: Vec3::splat(e) });
+    let mut scene =
+        top_view(uv_quad(0.0, 0).to_vec(), vec![material], vec![flat_texture("normal", rgba)], Light::Directional { direction: l, intensity: Vec3::splat(e) });
     vkrt::scene::tangents::fill_missing_tangents(&mut scene);
     let path = common::render_path(&scene, &common::path_settings(8, 8, 4)).image();
     let want = rho / PI * e * n.dot(l);
@@ -134,17 +132,15 @@ fn a_normal_map_that_tilts_below_the_surface_lets_no_light_through() {
 /// quad's alpha texture has alpha `alpha` and its material the given mode.
 fn veiled_floor(alpha: u8, blend: bool, cutoff: f32) -> Scene {
     let floor = Material { name: "floor".into(), diffuse: Vec3::splat(0.5), ..Material::default() };
-    let veil = Material {
-        name: "veil".into(),
-        diffuse: Vec3::ZERO,
-        alpha_texture: Some(0),
-        alpha_blend: blend,
-        alpha_cutoff: cutoff,
-        ..Material::default()
-    };
+    let veil = Material { name: "veil".into(), diffuse: Vec3::ZERO, alpha_texture: Some(0), alpha_blend: blend, alpha_cutoff: cutoff, ..Material::default() };
     let mut triangles = uv_quad(0.0, 0).to_vec();
     triangles.extend(uv_quad(1.0, 1));
-    top_view(triangles, vec![floor, veil], vec![flat_texture("alpha", [0, 0, 0, alpha])], Light::Directional { direction: Vec3::Z, intensity: Vec3::splat(2.0) })
+    top_view(
+        triangles,
+        vec![floor, veil],
+        vec![flat_texture("alpha", [0, 0, 0, alpha])],
+        Light::Directional { direction: Vec3::Z, intensity: Vec3::splat(2.0) },
+    )
 }
 
 #[test]

@@ -10,8 +10,8 @@ mod common;
 use vkrt::gpu::{Context, ContextOptions, HostAccess, Validation};
 use vkrt::gpu_abi::GpuRay;
 use vkrt::integrator::RenderSettings;
-use vkrt::query::RayQuery;
 use vkrt::query::RayOrder;
+use vkrt::query::RayQuery;
 
 fn context(memory: Option<&str>) -> Context {
     let mut options = ContextOptions::from_env();

@@ -64,7 +64,6 @@ fn centre_mean(image: &Image) -> f64 {
     centre().map(|p| luminance(image, p)).sum::<f64>() / 64.0
 }
 
-
 /// The noise in the centre (common::noise::noise_over).
 fn centre_noise(a: &Image, b: &Image) -> f64 {
     noise_over(a, b, centre())
@@ -108,7 +107,10 @@ fn a_resumed_run_probes_again_and_continues_bit_for_bit() {
     first.stop.spp = Some(4);
     let half = run(&first, None);
     let resumed = run(&settings(8, 1, true), Some(half));
-    assert!(resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts, "4 + 4 resumed spp differ from 8 spp in one run");
+    assert!(
+        resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts,
+        "4 + 4 resumed spp differ from 8 spp in one run"
+    );
     // And the probe changed the image (else this test would not test it).
     let off = run(&settings(8, 1, false), None);
     assert!(off.even != straight.even, "the probe did not act on the dark mirror");

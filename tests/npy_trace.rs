@@ -3,18 +3,16 @@
 
 mod common;
 
+use vkrt::accel::{leaf, LayoutKind};
+use vkrt::bvh::BuilderKind;
 use vkrt::cli::bvh::{format_rows, BvhArgs, Format};
 use vkrt::cli::trace::{run, TraceArgs};
-use vkrt::bvh::BuilderKind;
 use vkrt::gpu_abi::constants::PRIM_NONE;
-use vkrt::accel::{leaf, LayoutKind};
 use vkrt::gpu_abi::GpuRay;
 use vkrt::output::npy::{parse_header, read_hits, write_rays, RayReader};
 
 fn rays(n: usize) -> Vec<GpuRay> {
-    (0..n)
-        .map(|i| GpuRay { origin: [i as f32, 1.0, 2.0], tmin: 0.0, direction: [0.0, 0.0, -1.0], tmax: f32::INFINITY })
-        .collect()
+    (0..n).map(|i| GpuRay { origin: [i as f32, 1.0, 2.0], tmin: 0.0, direction: [0.0, 0.0, -1.0], tmax: f32::INFINITY }).collect()
 }
 
 #[test]

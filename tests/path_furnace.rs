@@ -3,11 +3,11 @@
 
 mod common;
 
+use common::procedural::{quad, sphere};
 use glam::Vec3;
 use vkrt::integrator::path::accumulation::Accumulation;
 use vkrt::integrator::path::connections::Connections;
 use vkrt::output::compare::compare;
-use common::procedural::{quad, sphere};
 use vkrt::scene::{Camera, Light, Material, Scene};
 
 const ALBEDO: f32 = 0.5;
@@ -16,12 +16,7 @@ const LE: f32 = 1.0;
 /// Inside a closed sphere whose inner face has albedo a and emits Le, radiance is Le / (1 - a)
 /// everywhere (L = Le + a L). `extra` adds objects inside it.
 fn furnace(extra: Vec<vkrt::scene::Triangle>, extra_materials: Vec<Material>) -> Scene {
-    let wall = Material {
-        name: "furnace".into(),
-        diffuse: Vec3::splat(ALBEDO),
-        emission: Vec3::splat(LE),
-        ..Material::default()
-    };
+    let wall = Material { name: "furnace".into(), diffuse: Vec3::splat(ALBEDO), emission: Vec3::splat(LE), ..Material::default() };
     let mut triangles = sphere(Vec3::ZERO, 10.0, 3, 0, true);
     triangles.extend(extra);
     let mut materials = vec![wall];

@@ -64,7 +64,11 @@ fn neighbour_pairs(w: u32, h: u32, same: &dyn Fn((u32, u32), (u32, u32)) -> bool
     for y in 0..h {
         for x in 0..w - 1 {
             let pair = ((x, y), (x + 1, y));
-            if same(pair.0, pair.1) { yes.push(pair) } else { no.push(pair) }
+            if same(pair.0, pair.1) {
+                yes.push(pair)
+            } else {
+                no.push(pair)
+            }
         }
     }
     (yes, no)
@@ -174,7 +178,12 @@ fn group_mates_draw_the_same_numbers(sampler: SamplerKind) {
     let same = |pairs: &[PixelPair]| pairs.iter().filter(|&&(p, q)| image.get(p.0, p.1) == image.get(q.0, q.1)).count() as f64 / pairs.len() as f64;
     let (neighbours, _) = neighbour_pairs(w, h, &|_, _| true);
     let (mates_same, neighbours_same) = (same(&mates), same(&neighbours));
-    eprintln!("{sampler:?}: equal values: {:.1} % of {} group-mate pairs, {:.1} % of horizontal neighbours", mates_same * 100.0, mates.len(), neighbours_same * 100.0);
+    eprintln!(
+        "{sampler:?}: equal values: {:.1} % of {} group-mate pairs, {:.1} % of horizontal neighbours",
+        mates_same * 100.0,
+        mates.len(),
+        neighbours_same * 100.0
+    );
     // Not all: where shading normals bend a bounce below the surface that path ends early.
     assert!(mates_same > 0.95, "only {:.1} % of group-mates have equal values", mates_same * 100.0);
     assert!(neighbours_same < 0.05, "{:.1} % of neighbours have equal values", neighbours_same * 100.0);
@@ -213,7 +222,10 @@ fn adaptive_sampling_meets_the_bound_with_less_error_than_uniform(coherence_bloc
     let acc = common::render_path(&scene, &settings);
     let total: u64 = (0..acc.even.len()).map(|p| acc.counts(p).0).sum();
     let c = compare(&acc.image(), &reference).unwrap();
-    eprintln!("adaptive, block {coherence_block}: relMSE {:.3e} (uniform {:.3e}, bound {bound:.3e}), mean diff {:?}, {total} samples", c.relmse, uniform.relmse, c.mean_diff);
+    eprintln!(
+        "adaptive, block {coherence_block}: relMSE {:.3e} (uniform {:.3e}, bound {bound:.3e}), mean diff {:?}, {total} samples",
+        c.relmse, uniform.relmse, c.mean_diff
+    );
     let pixels = (reference.width * reference.height) as u64;
     assert!(total >= MEAN_SPP * pixels && total <= (MEAN_SPP + 1) * pixels, "{total} samples for a mean of {MEAN_SPP} spp");
     assert!(c.relmse <= bound, "relMSE {:.4e} > {bound:.4e}", c.relmse);

@@ -7,8 +7,8 @@ mod common;
 use std::process::Command;
 use vkrt::integrator::path::accumulation::Accumulation;
 use vkrt::integrator::path::checkpoint::Checkpoint;
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::path::{self, Hooks, PathSettings, Stop};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 
 const SCENE: &str = "scenes/cornell-measured/cornell.yaml";
 
@@ -41,7 +41,10 @@ fn resuming_continues_the_same_samples_bit_for_bit() {
     assert_eq!(half.samples, 4);
     let resumed = render(&common::path_settings(32, 32, 8), Some(half));
     assert_eq!(resumed.samples, 8);
-    assert!(resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts, "4 + 4 resumed spp differ from 8 spp in one run");
+    assert!(
+        resumed.even == straight.even && resumed.odd == straight.odd && resumed.counts == straight.counts,
+        "4 + 4 resumed spp differ from 8 spp in one run"
+    );
 }
 
 /// An adaptive run resumed inside its pilot and after it takes the very same samples as one
@@ -125,8 +128,22 @@ fn cli_checkpoints_merge_exactly_and_compare_gates_on_relmse() {
     let scene = common::repo_path(SCENE).display().to_string();
     for seed in ["1", "2"] {
         let out = vkrt(&[
-            "render", &scene, "-o", &p(&format!("s{seed}.exr")), "--integrator", "path", "--width", "32", "--height", "32",
-            "--spp", "4", "--seed", seed, "--checkpoint", &p(&format!("s{seed}.ckpt")),
+            "render",
+            &scene,
+            "-o",
+            &p(&format!("s{seed}.exr")),
+            "--integrator",
+            "path",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--spp",
+            "4",
+            "--seed",
+            seed,
+            "--checkpoint",
+            &p(&format!("s{seed}.ckpt")),
         ]);
         assert!(out.status.success(), "render: {}", String::from_utf8_lossy(&out.stderr));
     }
@@ -147,8 +164,22 @@ fn cli_checkpoints_merge_exactly_and_compare_gates_on_relmse() {
     assert!(!vkrt(&["merge", &p("s1.ckpt"), &p("s1.ckpt"), "-o", &p("bad.ckpt")]).status.success());
     // A checkpoint of another size cannot be resumed.
     let out = vkrt(&[
-        "render", &scene, "-o", &p("r.exr"), "--integrator", "path", "--width", "16", "--height", "16", "--spp", "8",
-        "--seed", "1", "--resume", &p("s1.ckpt"),
+        "render",
+        &scene,
+        "-o",
+        &p("r.exr"),
+        "--integrator",
+        "path",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--spp",
+        "8",
+        "--seed",
+        "1",
+        "--resume",
+        &p("s1.ckpt"),
     ]);
     assert!(!out.status.success(), "resumed a 32x32 checkpoint at 16x16");
     assert!(String::from_utf8_lossy(&out.stderr).contains("size differs"), "{}", String::from_utf8_lossy(&out.stderr));
@@ -243,4 +274,3 @@ fn grown_batches_give_the_same_sums_as_single_sample_batches() {
     assert!(single.even == grown.even && single.odd == grown.odd && single.counts == grown.counts, "grown batches changed the sums");
     common::assert_no_validation_messages(&ctx);
 }
-

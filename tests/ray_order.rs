@@ -6,13 +6,13 @@ mod common;
 
 use common::{gpu_context, Pcg};
 use glam::Vec3;
+use vkrt::accel::LayoutKind;
 use vkrt::bvh::BuilderKind;
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::gpu_abi::GpuRay;
 use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::query::ray_order::RayOrder;
 use vkrt::query::ray_query::{RayQuery, ORDER_WINDOW, RAYS_PER_BATCH};
-use vkrt::gpu_abi::constants::PRIM_NONE;
-use vkrt::accel::LayoutKind;
-use vkrt::gpu_abi::GpuRay;
 
 /// Rays with origins uniform in the box's bounds and directions uniform on the sphere.
 fn incoherent_rays(n: usize, lo: Vec3, hi: Vec3, seed: u64) -> Vec<GpuRay> {

@@ -32,16 +32,15 @@ fn run_probe(kind: u32, seed: u32) -> Vec<Vec<[[f32; 2]; PAIRS]>> {
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let out = Buffer::new(&ctx, "probe output", count * (PAIRS as u64) * 8, storage, MemoryLocation::Device).unwrap();
     let bindings = [(BINDING_ACCUM, BindingKind::Storage)];
-    let pipeline = ComputePipeline::new(&ctx, "sampler probe", &common::probe_spirv("sampler_probe"), &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
+    let pipeline =
+        ComputePipeline::new(&ctx, "sampler probe", &common::probe_spirv("sampler_probe"), &bindings, std::mem::size_of::<GpuPush>() as u32).unwrap();
     pipeline.bind(BINDING_ACCUM, &out).unwrap();
     let push = GpuPush { sample_count: N, total_spp: PIXELS, sample_base: seed, ray_count: kind, ..bytemuck::Zeroable::zeroed() };
     let groups = [(count as u32).div_ceil(ctx.workgroups.d1), 1, 1];
     submit_and_wait(&ctx, "sampler probe", |cmd| pipeline.record_dispatch(cmd, bytemuck::bytes_of(&push), groups)).unwrap();
     let raw: Vec<[f32; 2]> = out.read_as(count as usize * PAIRS).unwrap();
     common::assert_no_validation_messages(&ctx);
-    raw.chunks_exact(PAIRS * N as usize)
-        .map(|pixel| pixel.chunks_exact(PAIRS).map(|s| [s[0], s[1], s[2], s[3]]).collect())
-        .collect()
+    raw.chunks_exact(PAIRS * N as usize).map(|pixel| pixel.chunks_exact(PAIRS).map(|s| [s[0], s[1], s[2], s[3]]).collect()).collect()
 }
 
 /// Elementary intervals of area 2^-m (2^a by 2^(m-a) cells, every a) that the points miss or

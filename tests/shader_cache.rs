@@ -13,12 +13,7 @@ use vkrt::pipeline::ShaderOrigin;
 use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 
 fn context(shader_objects: ShaderObjectUse, cache: &std::path::Path) -> Context {
-    let options = ContextOptions {
-        validation: Some(Validation::Off),
-        shader_objects,
-        shader_cache: Some(cache.to_path_buf()),
-        ..ContextOptions::from_env()
-    };
+    let options = ContextOptions { validation: Some(Validation::Off), shader_objects, shader_cache: Some(cache.to_path_buf()), ..ContextOptions::from_env() };
     Context::new(&options).expect("a Vulkan device (run tools/ensure-deps.sh)")
 }
 

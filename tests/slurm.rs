@@ -124,7 +124,8 @@ impl Cluster {
         wait_for(NODE_IDLE_TIMEOUT, "the node to be idle (see the logs in the cluster folder)", || {
             cluster.command("sinfo").args(["-h", "-o", "%t"]).output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "idle")
         });
-        let _ = writeln!(std::io::stderr(), "slurm: cluster in {} idle {:.1} s after the daemons started", cluster.dir.display(), started.elapsed().as_secs_f64());
+        let _ =
+            writeln!(std::io::stderr(), "slurm: cluster in {} idle {:.1} s after the daemons started", cluster.dir.display(), started.elapsed().as_secs_f64());
         Some(cluster)
     }
 

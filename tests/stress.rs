@@ -8,17 +8,17 @@
 
 mod common;
 
-use common::Pcg;
-use glam::Vec3;
-use vkrt::bvh::BuilderKind;
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
-use vkrt::query::ray_query::trace_rays;
-use vkrt::gpu_abi::constants::PRIM_NONE;
-use vkrt::accel::intersect;
-use vkrt::accel::LayoutKind;
-use vkrt::gpu_abi::GpuRay;
 use common::closed_meshes::{icosphere, subdivided_cube, torus, IndexedMesh};
 use common::procedural::scene_of;
+use common::Pcg;
+use glam::Vec3;
+use vkrt::accel::intersect;
+use vkrt::accel::LayoutKind;
+use vkrt::bvh::BuilderKind;
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::gpu_abi::GpuRay;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::query::ray_query::trace_rays;
 
 #[test]
 fn closed_meshes_are_closed_and_wound_outward() {
@@ -51,10 +51,12 @@ fn closed_meshes_are_closed_and_wound_outward() {
 fn inside_points(name: &str) -> Vec<Vec3> {
     match name {
         // On the tube's centre circle, at a few angles.
-        "torus" => (0..4).map(|k| {
-            let a = k as f32 * 1.3;
-            Vec3::new(a.cos(), 0.0, a.sin())
-        }).collect(),
+        "torus" => (0..4)
+            .map(|k| {
+                let a = k as f32 * 1.3;
+                Vec3::new(a.cos(), 0.0, a.sin())
+            })
+            .collect(),
         _ => vec![Vec3::ZERO, Vec3::new(0.3, -0.2, 0.1)],
     }
 }
@@ -85,34 +87,34 @@ fn leaks(mesh: &IndexedMesh, name: &str, scale: f32, offset: Vec3, ctx: &vkrt::g
     let mut leaked = 0;
     let mut tried = 0;
     for layout in LayoutKind::ALL {
-    let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() }).unwrap();
-    let gpu = GpuScene::upload(ctx, &prepared).unwrap();
-    let gpu_hits = trace_rays(ctx, &gpu.bvh, &rays, false).unwrap();
-    tried += 2 * rays.len();
-    for (ray, g) in rays.iter().zip(&gpu_hits) {
-        let c = prepared.flat.trace(ray, false);
-        for h in [c, *g] {
-            let dir = Vec3::from(ray.direction);
-            let ok = h.prim != PRIM_NONE && {
-                // From inside, the first surface is seen from its back. A ray through (or within
-                // float noise of) a shared vertex or edge hits every triangle around it at the
-                // same t, and on saddle-shaped parts (the torus's inner ring) one of those may
-                // face the ray: then a back-facing triangle must be hit at that same t.
-                scene.triangles[h.prim as usize].cross().dot(dir) > 0.0 || {
-                    let r = intersect::RayPre::new(ray);
-                    let exit = scene
-                        .triangles
-                        .iter()
-                        .filter(|t| t.cross().dot(dir) > 0.0)
-                        .filter_map(|t| intersect::intersect_triangle(&r, t.p[0], t.p[1], t.p[2], f32::INFINITY))
-                        .map(|x| x.t)
-                        .fold(f32::INFINITY, f32::min);
-                    (exit - h.t).abs() <= 1e-5 * h.t
-                }
-            };
-            leaked += (!ok) as usize;
+        let prepared = PreparedScene::new(&scene, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() }).unwrap();
+        let gpu = GpuScene::upload(ctx, &prepared).unwrap();
+        let gpu_hits = trace_rays(ctx, &gpu.bvh, &rays, false).unwrap();
+        tried += 2 * rays.len();
+        for (ray, g) in rays.iter().zip(&gpu_hits) {
+            let c = prepared.flat.trace(ray, false);
+            for h in [c, *g] {
+                let dir = Vec3::from(ray.direction);
+                let ok = h.prim != PRIM_NONE && {
+                    // From inside, the first surface is seen from its back. A ray through (or within
+                    // float noise of) a shared vertex or edge hits every triangle around it at the
+                    // same t, and on saddle-shaped parts (the torus's inner ring) one of those may
+                    // face the ray: then a back-facing triangle must be hit at that same t.
+                    scene.triangles[h.prim as usize].cross().dot(dir) > 0.0 || {
+                        let r = intersect::RayPre::new(ray);
+                        let exit = scene
+                            .triangles
+                            .iter()
+                            .filter(|t| t.cross().dot(dir) > 0.0)
+                            .filter_map(|t| intersect::intersect_triangle(&r, t.p[0], t.p[1], t.p[2], f32::INFINITY))
+                            .map(|x| x.t)
+                            .fold(f32::INFINITY, f32::min);
+                        (exit - h.t).abs() <= 1e-5 * h.t
+                    }
+                };
+                leaked += (!ok) as usize;
+            }
         }
-    }
     }
     (leaked, tried)
 }
@@ -218,13 +220,8 @@ fn render(ctx: &vkrt::gpu::Context, scene: &Scene, size: u32) -> Image {
 
 /// Fraction of pixel channels that differ by more than 2% of the reference (plus 1e-3).
 fn differing_fraction(a: &Image, b: &Image) -> f64 {
-    let bad = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .flat_map(|(p, q)| (0..3).map(move |k| (p[k], q[k])))
-        .filter(|(x, y)| !((x - y).abs() <= 0.02 * y.abs() + 1e-3))
-        .count();
+    let bad =
+        a.pixels.iter().zip(&b.pixels).flat_map(|(p, q)| (0..3).map(move |k| (p[k], q[k]))).filter(|(x, y)| !((x - y).abs() <= 0.02 * y.abs() + 1e-3)).count();
     bad as f64 / (a.pixels.len() * 3) as f64
 }
 

@@ -9,10 +9,10 @@ mod common;
 
 use ash::vk;
 use std::fmt::Debug;
+use vkrt::accel::LayoutKind;
 use vkrt::gpu::commands::submit_and_wait;
 use vkrt::gpu::{Buffer, Context, MemoryLocation, TexelArray, TexelFormat};
 use vkrt::gpu_abi::constants::*;
-use vkrt::accel::LayoutKind;
 use vkrt::gpu_abi::*;
 use vkrt::pipeline::{BindingKind, ComputePipeline};
 
@@ -20,8 +20,7 @@ use vkrt::pipeline::{BindingKind, ComputePipeline};
 /// bits (so float fields round-trip exactly and no two words are likely equal), with the padding
 /// that `zero_pads` clears zeroed: what the shader should read back.
 fn values<T: bytemuck::Pod>(rng: &mut common::Pcg, n: usize, zero_pads: fn(&mut T)) -> Vec<T> {
-    let words: Vec<u32> =
-        (0..n * std::mem::size_of::<T>() / 4).map(|_| (rng.next_u32() & 0x807F_FFFF) | 0x3F00_0000).collect();
+    let words: Vec<u32> = (0..n * std::mem::size_of::<T>() / 4).map(|_| (rng.next_u32() & 0x807F_FFFF) | 0x3F00_0000).collect();
     let mut v: Vec<T> = bytemuck::pod_collect_to_vec(&words);
     v.iter_mut().for_each(zero_pads);
     v
@@ -68,30 +67,65 @@ fn check_probe<'a>(ctx: &'a Context, probe: &[u8], nodes: impl FnOnce(&mut commo
     // Odd counts, none a multiple of the workgroup size.
     let cases = vec![
         nodes(&mut rng),
-        case(ctx, "triangles", BINDING_TRIANGLES, o + 1, rgba, values(&mut rng, 41, |t: &mut GpuTriangle| {
-            t._pad0 = 0;
-            t._pad1 = 0;
-        })),
-        case(ctx, "shading", BINDING_SHADING, o + 2, rgba, values(&mut rng, 43, |s: &mut GpuShading| {
-            s._pad0 = 0;
-            s._pad1 = 0;
-        })),
-        case(ctx, "materials", BINDING_MATERIALS, o + 3, rgba, values(&mut rng, 29, |m: &mut GpuMaterial| {
-            m._pad0 = 0;
-            m._pad1 = 0;
-            m._pad2 = 0;
-        })),
+        case(
+            ctx,
+            "triangles",
+            BINDING_TRIANGLES,
+            o + 1,
+            rgba,
+            values(&mut rng, 41, |t: &mut GpuTriangle| {
+                t._pad0 = 0;
+                t._pad1 = 0;
+            }),
+        ),
+        case(
+            ctx,
+            "shading",
+            BINDING_SHADING,
+            o + 2,
+            rgba,
+            values(&mut rng, 43, |s: &mut GpuShading| {
+                s._pad0 = 0;
+                s._pad1 = 0;
+            }),
+        ),
+        case(
+            ctx,
+            "materials",
+            BINDING_MATERIALS,
+            o + 3,
+            rgba,
+            values(&mut rng, 29, |m: &mut GpuMaterial| {
+                m._pad0 = 0;
+                m._pad1 = 0;
+                m._pad2 = 0;
+            }),
+        ),
         case(ctx, "lights", BINDING_LIGHTS, o + 4, rgba, values(&mut rng, 13, |_: &mut GpuLight| {})),
-        case(ctx, "emitters", BINDING_EMITTERS, o + 5, rgba, values(&mut rng, 31, |e: &mut GpuEmitter| {
-            e._pad0 = 0;
-            e._pad1 = 0;
-        })),
+        case(
+            ctx,
+            "emitters",
+            BINDING_EMITTERS,
+            o + 5,
+            rgba,
+            values(&mut rng, 31, |e: &mut GpuEmitter| {
+                e._pad0 = 0;
+                e._pad1 = 0;
+            }),
+        ),
         case(ctx, "textures", BINDING_TEXTURES, o + 6, rgba, values(&mut rng, 11, |t: &mut GpuTexture| t._pad0 = 0)),
         case(ctx, "texels", BINDING_TEXELS, o + 7, TexelFormat::R32Uint, values(&mut rng, 101, |_: &mut u32| ())),
-        case(ctx, "uvs", BINDING_UVS, o + 8, rgba, values(&mut rng, 47, |u: &mut GpuUv| {
-            u._pad0 = 0;
-            u._pad1 = 0;
-        })),
+        case(
+            ctx,
+            "uvs",
+            BINDING_UVS,
+            o + 8,
+            rgba,
+            values(&mut rng, 47, |u: &mut GpuUv| {
+                u._pad0 = 0;
+                u._pad1 = 0;
+            }),
+        ),
         case(ctx, "light picks", BINDING_LIGHT_PICKS, o + 9, rgba, values(&mut rng, 53, |_: &mut GpuLightPick| ())),
         case(ctx, "tangents", BINDING_TANGENTS, BINDING_DECODE_OUT_TANGENTS, rgba, values(&mut rng, 19, |_: &mut GpuTangents| ())),
     ];
@@ -122,9 +156,7 @@ fn every_texel_decoder_reads_back_what_the_host_uploaded() {
         let rgba = TexelFormat::Rgba32Uint;
         let out = BINDING_DECODE_OUT;
         check_probe(&ctx, &probe, |rng| match layout {
-            LayoutKind::Threaded | LayoutKind::MultiOrder => {
-                case(&ctx, "nodes", BINDING_NODES, out, rgba, values(rng, 37, |_: &mut GpuNode| ()))
-            }
+            LayoutKind::Threaded | LayoutKind::MultiOrder => case(&ctx, "nodes", BINDING_NODES, out, rgba, values(rng, 37, |_: &mut GpuNode| ())),
             LayoutKind::ParentLink => case(&ctx, "parent-link nodes", BINDING_NODES, out, rgba, values(rng, 37, |_: &mut GpuParentNode| ())),
             LayoutKind::Compact => case(&ctx, "compact nodes", BINDING_NODES, out, rgba, values(rng, 37, |_: &mut GpuCompactNode| ())),
             LayoutKind::Wide => {

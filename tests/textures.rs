@@ -6,11 +6,11 @@
 mod common;
 
 use glam::{Vec2, Vec3};
+use vkrt::accel::LayoutKind;
 use vkrt::bvh::BuilderKind;
-use vkrt::prepare::{EnvLight, PrepareOptions};
 use vkrt::integrator::path::{PathSettings, Stop};
 use vkrt::integrator::{whitted, Image, RenderSettings};
-use vkrt::accel::LayoutKind;
+use vkrt::prepare::{EnvLight, PrepareOptions};
 use vkrt::scene::{Camera, Light, Material, Scene, Sky, Texture, Triangle};
 
 const W: u32 = 8;
@@ -46,8 +46,7 @@ fn path_image(scene: &Scene, size: (u32, u32), spp: u64, max_depth: Option<u32>,
 fn whitted_image_lit(scene: &Scene, env: Option<&EnvLight>, layout: LayoutKind, size: (u32, u32), all_features: bool) -> Image {
     let ctx = common::gpu_context();
     let gpu = common::upload_lit(&ctx, scene, env, &PrepareOptions { builder: BuilderKind::Sah, layout, ..Default::default() });
-    let settings =
-        RenderSettings { width: size.0, height: size.1, spp: 1, max_depth: 3, all_features, ..RenderSettings::default() };
+    let settings = RenderSettings { width: size.0, height: size.1, spp: 1, max_depth: 3, all_features, ..RenderSettings::default() };
     let (image, stats) = whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap();
     assert_eq!(stats.nonfinite_samples, 0);
     common::assert_no_validation_messages(&ctx);
@@ -161,13 +160,7 @@ fn checker_alpha() -> Texture {
 }
 
 fn cutout_material() -> Material {
-    Material {
-        name: "leaf".into(),
-        diffuse: Vec3::ZERO,
-        diffuse_texture: Some(0),
-        alpha_texture: Some(0),
-        ..Material::default()
-    }
+    Material { name: "leaf".into(), diffuse: Vec3::ZERO, diffuse_texture: Some(0), alpha_texture: Some(0), ..Material::default() }
 }
 
 #[test]
@@ -248,7 +241,8 @@ fn cube_faces() -> Vec<Texture> {
 
 /// A tiny triangle behind the camera keeps the scene non-empty; every pixel sees the sky.
 fn sky_scene(dir: Vec3, up: Vec3) -> Scene {
-    let speck = Triangle { p: [Vec3::new(0.0, 0.0, 0.0) - dir * 50.0, -dir * 50.0 + up * 0.01, -dir * 50.0 + up.cross(dir) * 0.01], n: None, uv: None, material: 0 };
+    let speck =
+        Triangle { p: [Vec3::new(0.0, 0.0, 0.0) - dir * 50.0, -dir * 50.0 + up * 0.01, -dir * 50.0 + up.cross(dir) * 0.01], n: None, uv: None, material: 0 };
     Scene {
         triangles: vec![speck],
         materials: vec![Material::default()],
@@ -353,13 +347,7 @@ fn specialised_and_all_features_shaders_agree() {
     }
     let b = special.bounds();
     special.lights.push(Light::Spot { position: b.center(), direction: -Vec3::Y, intensity: Vec3::ONE, radius: 0.1 * b.extent().length() });
-    special.lights.push(Light::Cone {
-        position: b.center(),
-        direction: -Vec3::Y,
-        intensity: Vec3::ONE,
-        cos_inner: 0.9,
-        cos_outer: 0.7,
-    });
+    special.lights.push(Light::Cone { position: b.center(), direction: -Vec3::Y, intensity: Vec3::ONE, cos_inner: 0.9, cos_outer: 0.7 });
     scenes.push(("mirror, glass, glossy, spot and cone lights", special));
     // Emitters, a glossy lobe and a mirror alone: the lean build with the mirror code
     // (Box_ver_path itself runs the lean build without it).
@@ -369,12 +357,29 @@ fn specialised_and_all_features_shaders_agree() {
     // an emission texture and a normal map with MikkTSpace tangents, on the textured shadow scene.
     let mut gltf = shadow_scene();
     let t = gltf.textures.len() as u32;
-    gltf.textures.push(vkrt::scene::Texture::from_rgba("normal", 2, 2, &[[170, 100, 230, 255], [90, 140, 240, 255], [128, 128, 255, 255], [200, 60, 200, 255]]).unwrap());
+    gltf.textures.push(
+        vkrt::scene::Texture::from_rgba("normal", 2, 2, &[[170, 100, 230, 255], [90, 140, 240, 255], [128, 128, 255, 255], [200, 60, 200, 255]]).unwrap(),
+    );
     gltf.textures.push(vkrt::scene::Texture::from_rgba("mr", 2, 2, &[[0, 200, 255, 255], [0, 40, 0, 255], [0, 120, 128, 255], [0, 255, 60, 255]]).unwrap());
     let mr = |metallic, roughness, texture| Some(vkrt::scene::MetallicRoughness { metallic, roughness, texture });
     let n = gltf.materials.len() as u32;
-    gltf.materials.push(Material { name: "gltf rough".into(), diffuse: Vec3::new(0.9, 0.6, 0.3), metallic_roughness: mr(0.7, 0.8, Some(t + 1)), normal_texture: Some(t), normal_scale: 0.7, ..Material::default() });
-    gltf.materials.push(Material { name: "gltf metal".into(), diffuse: Vec3::splat(0.9), metallic_roughness: mr(1.0, 0.05, None), diffuse_texture: Some(0), emission: Vec3::splat(0.5), emission_texture: Some(t + 1), ..Material::default() });
+    gltf.materials.push(Material {
+        name: "gltf rough".into(),
+        diffuse: Vec3::new(0.9, 0.6, 0.3),
+        metallic_roughness: mr(0.7, 0.8, Some(t + 1)),
+        normal_texture: Some(t),
+        normal_scale: 0.7,
+        ..Material::default()
+    });
+    gltf.materials.push(Material {
+        name: "gltf metal".into(),
+        diffuse: Vec3::splat(0.9),
+        metallic_roughness: mr(1.0, 0.05, None),
+        diffuse_texture: Some(0),
+        emission: Vec3::splat(0.5),
+        emission_texture: Some(t + 1),
+        ..Material::default()
+    });
     for (k, tri) in gltf.triangles.iter_mut().enumerate() {
         if k % 3 != 0 {
             tri.material = n + (k % 2) as u32;

@@ -7,14 +7,14 @@ mod common;
 
 use common::{gpu_context, Pcg};
 use glam::Vec3;
-use vkrt::bvh::{self, BuildConfig, BuilderKind, Bvh, NodeKind};
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
-use vkrt::query::ray_query::trace_rays;
-use vkrt::gpu_abi::constants::PRIM_NONE;
 use vkrt::accel::intersect::{self, RayPre};
 use vkrt::accel::leaf;
 use vkrt::accel::LayoutKind;
+use vkrt::bvh::{self, BuildConfig, BuilderKind, Bvh, NodeKind};
+use vkrt::gpu_abi::constants::PRIM_NONE;
 use vkrt::gpu_abi::{GpuHit, GpuRay};
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
+use vkrt::query::ray_query::trace_rays;
 use vkrt::scene::{Scene, Triangle};
 
 const BUILDERS: &[BuilderKind] = &BuilderKind::ALL;
@@ -70,10 +70,7 @@ fn tree_walk(bvh: &Bvh, tris: &[Triangle], ray: &GpuRay) -> GpuHit {
 
 /// Same primitive, and t within `max_ulps` (0 between CPU walks: the same arithmetic).
 fn assert_same_hit(what: &str, ray: &GpuRay, expected: &GpuHit, got: &GpuHit, max_ulps: u32) {
-    assert_eq!(
-        expected.prim, got.prim,
-        "{what}: primitive differs for ray {ray:?}: expected {expected:?}, got {got:?}"
-    );
+    assert_eq!(expected.prim, got.prim, "{what}: primitive differs for ray {ray:?}: expected {expected:?}, got {got:?}");
     if expected.prim != PRIM_NONE {
         let d = ulps(expected.t, got.t);
         assert!(d <= max_ulps, "{what}: t differs by {d} ulps (at most {max_ulps}) for ray {ray:?}: {expected:?} vs {got:?}");
@@ -196,10 +193,8 @@ fn primary_rays_through_the_cornell_box_agree() {
     let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
     let frame = scene.camera.frame().unwrap();
     let (w, h) = (33u32, 33u32);
-    let rays: Vec<GpuRay> = (0..h)
-        .flat_map(|j| (0..w).map(move |i| (i, j)))
-        .map(|(i, j)| ray(frame.origin, frame.ray_direction(i as f32 + 0.5, j as f32 + 0.5, w, h)))
-        .collect();
+    let rays: Vec<GpuRay> =
+        (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).map(|(i, j)| ray(frame.origin, frame.ray_direction(i as f32 + 0.5, j as f32 + 0.5, w, h))).collect();
     let hits = check_chain("cornell primary", &scene, &rays);
     // The box fills the standard camera's view but for a thin border (open front, black rim).
     assert!(hits * 10 >= rays.len() * 9, "only {hits} of {} camera rays hit the box", rays.len());

@@ -4,11 +4,11 @@
 
 mod common;
 
+use common::procedural::quad;
 use glam::Vec3;
 use vkrt::bvh::BuilderKind;
-use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::integrator::{whitted, RenderSettings};
-use common::procedural::quad;
+use vkrt::prepare::{GpuScene, PrepareOptions, PreparedScene};
 use vkrt::scene::{Camera, Light, Material, Scene, Triangle};
 
 /// Renders a 3x3 image with one sample at each pixel centre and returns the centre pixel,
@@ -39,12 +39,12 @@ fn boxed(lo: Vec3, hi: Vec3, material: u32) -> Vec<Triangle> {
     let e = hi - lo;
     let (x, y, z) = (Vec3::X * e.x, Vec3::Y * e.y, Vec3::Z * e.z);
     [
-        quad(lo, y, x, material),          // -z face
-        quad(lo + z, x, y, material),      // +z face
-        quad(lo, z, y, material),          // -x face
-        quad(lo + x, y, z, material),      // +x face
-        quad(lo, x, z, material),          // -y face
-        quad(lo + y, z, x, material),      // +y face
+        quad(lo, y, x, material),     // -z face
+        quad(lo + z, x, y, material), // +z face
+        quad(lo, z, y, material),     // -x face
+        quad(lo + x, y, z, material), // +x face
+        quad(lo, x, z, material),     // -y face
+        quad(lo + y, z, x, material), // +y face
     ]
     .into_iter()
     .flatten()

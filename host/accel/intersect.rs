@@ -31,7 +31,11 @@ pub struct RayPre {
 /// rather than infinity. An origin exactly on a slab plane then gives 0 * MAX = 0 instead of
 /// 0 * inf = NaN, and the slab counts as entered (boundaries inclusive).
 pub fn safe_reciprocal(d: f32) -> f32 {
-    if d == 0.0 { f32::MAX.copysign(d) } else { 1.0 / d }
+    if d == 0.0 {
+        f32::MAX.copysign(d)
+    } else {
+        1.0 / d
+    }
 }
 
 impl RayPre {
@@ -40,7 +44,13 @@ impl RayPre {
         let d = Vec3::from(ray.direction);
         let inv_dir = Vec3::new(safe_reciprocal(d.x), safe_reciprocal(d.y), safe_reciprocal(d.z));
         let a = d.abs();
-        let kz = if a.x >= a.y && a.x >= a.z { 0 } else if a.y >= a.z { 1 } else { 2 };
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
         let mut kx = (kz + 1) % 3;
         let mut ky = (kx + 1) % 3;
         if d[kz] < 0.0 {
@@ -68,18 +78,30 @@ pub fn intersect_box(r: &RayPre, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f3
     let far = Vec3::new(sel_max(t0.x, t1.x), sel_max(t0.y, t1.y), sel_max(t0.z, t1.z));
     let t_enter = sel_max(r.tmin, sel_max(sel_max(near.x, near.y), near.z));
     let t_exit = sel_min(tmax, sel_min(sel_min(far.x, far.y), far.z)) * SLAB_FAR_PAD;
-    if t_enter <= t_exit { Some(t_enter) } else { None }
+    if t_enter <= t_exit {
+        Some(t_enter)
+    } else {
+        None
+    }
 }
 
 /// `sel_min` in intersect.glsl: `a < b ? a : b` (b if either is NaN), what x86's minps does;
 /// unlike `f32::min` it does not skip a NaN.
 pub fn sel_min(a: f32, b: f32) -> f32 {
-    if a < b { a } else { b }
+    if a < b {
+        a
+    } else {
+        b
+    }
 }
 
 /// `sel_max` in intersect.glsl: `a > b ? a : b`.
 pub fn sel_max(a: f32, b: f32) -> f32 {
-    if a > b { a } else { b }
+    if a > b {
+        a
+    } else {
+        b
+    }
 }
 
 /// A triangle hit: distance and the barycentric weights of v1 and v2.

@@ -87,8 +87,7 @@ const _: () = {
 };
 
 impl LayoutKind {
-    pub const ALL: [LayoutKind; 5] =
-        [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact, LayoutKind::Wide];
+    pub const ALL: [LayoutKind; 5] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact, LayoutKind::Wide];
 
     pub fn info(self) -> &'static LayoutInfo {
         &LAYOUTS[self as usize]

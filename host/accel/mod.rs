@@ -14,8 +14,8 @@ pub mod multi_order;
 pub mod parent_link;
 pub mod threaded;
 pub mod triangle_list;
-pub mod wide;
 pub mod walls;
+pub mod wide;
 
 pub use kinds::{LayoutInfo, LayoutKind, LAYOUTS};
 

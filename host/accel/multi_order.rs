@@ -34,7 +34,11 @@ pub fn flatten(bvh: &Bvh) -> Vec<GpuNode> {
         let child_order = |_: usize, left: u32, right: u32| {
             // Near child first: smaller centre for a positive direction, larger for negative.
             let left_first = if negative { key(left) >= key(right) } else { key(left) <= key(right) };
-            if left_first { (left, right) } else { (right, left) }
+            if left_first {
+                (left, right)
+            } else {
+                (right, left)
+            }
         };
         out.extend(threaded(bvh, child_order, (order * n) as u32));
     }

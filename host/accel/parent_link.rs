@@ -53,7 +53,13 @@ pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuParentNode>> {
             NodeKind::Interior { left, right } => {
                 let (cl, cr) = (bvh.nodes[left as usize].bounds.center(), bvh.nodes[right as usize].bounds.center());
                 let d = (cr - cl).abs();
-                let axis = if d.x >= d.y && d.x >= d.z { 0 } else if d.y >= d.z { 1 } else { 2 };
+                let axis = if d.x >= d.y && d.x >= d.z {
+                    0
+                } else if d.y >= d.z {
+                    1
+                } else {
+                    2
+                };
                 let (even, odd) = if cl[axis] <= cr[axis] { (left, right) } else { (right, left) };
                 let pair = next_pair;
                 next_pair += 2;
@@ -62,12 +68,8 @@ pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuParentNode>> {
                 (pair << LEAF_COUNT_BITS, axis as u32)
             }
         };
-        out[dst as usize] = GpuParentNode {
-            bmin: node.bounds.min.to_array(),
-            parent: (parent << 4) | (axis << 2) | parent_axis,
-            bmax: node.bounds.max.to_array(),
-            leaf,
-        };
+        out[dst as usize] =
+            GpuParentNode { bmin: node.bounds.min.to_array(), parent: (parent << 4) | (axis << 2) | parent_axis, bmax: node.bounds.max.to_array(), leaf };
     }
     Ok(out)
 }
@@ -83,7 +85,11 @@ enum State {
 
 /// The near child of an interior node whose even child is `even`, split on `axis`.
 fn near_child(even: u32, axis: u32, dir: Vec3) -> u32 {
-    if dir[axis as usize] >= 0.0 { even } else { even + 1 }
+    if dir[axis as usize] >= 0.0 {
+        even
+    } else {
+        even + 1
+    }
 }
 
 /// CPU twin of `traverse` in traverse_parent_link.glsl.

@@ -84,11 +84,15 @@ fn members(bvh: &Bvh, src: u32) -> Vec<u32> {
 /// (stable, so ties keep the binary tree's order).
 fn order_members(bvh: &Bvh, mut members: Vec<u32>) -> (u32, Vec<u32>) {
     let centre = |m: u32| bvh.nodes[m as usize].bounds.center();
-    let (lo, hi) = members.iter().fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &m| {
-        (lo.min(centre(m)), hi.max(centre(m)))
-    });
+    let (lo, hi) = members.iter().fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &m| (lo.min(centre(m)), hi.max(centre(m))));
     let d = hi - lo;
-    let axis = if d.x >= d.y && d.x >= d.z { 0 } else if d.y >= d.z { 1 } else { 2 };
+    let axis = if d.x >= d.y && d.x >= d.z {
+        0
+    } else if d.y >= d.z {
+        1
+    } else {
+        2
+    };
     members.sort_by(|&a, &b| centre(a)[axis].total_cmp(&centre(b)[axis]));
     (axis as u32, members)
 }

@@ -22,10 +22,7 @@ pub struct BvhStats {
 /// Walk the tree from the root and summarise it. The walk stops after `nodes.len()` visits, so a
 /// malformed tree (a cycle) cannot make it loop forever; `validate` is what reports such trees.
 pub fn stats(bvh: &Bvh) -> BvhStats {
-    let mut s = BvhStats {
-        sah_cost: sah_cost(bvh),
-        ..BvhStats::default()
-    };
+    let mut s = BvhStats { sah_cost: sah_cost(bvh), ..BvhStats::default() };
     if bvh.nodes.is_empty() {
         return s;
     }

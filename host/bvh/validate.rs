@@ -21,11 +21,7 @@ pub fn validate(bvh: &Bvh, boxes: &[Aabb]) -> Result<(), String> {
     check_permutation(&bvh.prim_indices, n)?;
     if bvh.nodes.is_empty() {
         // An empty scene has no root; anything else needs one.
-        return if n == 0 {
-            Ok(())
-        } else {
-            Err(format!("no nodes for {n} primitives"))
-        };
+        return if n == 0 { Ok(()) } else { Err(format!("no nodes for {n} primitives")) };
     }
 
     let mut reached = vec![false; bvh.nodes.len()];
@@ -34,10 +30,7 @@ pub fn validate(bvh: &Bvh, boxes: &[Aabb]) -> Result<(), String> {
     let mut stack = vec![0usize];
     while let Some(i) = stack.pop() {
         let Some(seen) = reached.get_mut(i) else {
-            return Err(format!(
-                "node index {i} out of range ({} nodes)",
-                bvh.nodes.len()
-            ));
+            return Err(format!("node index {i} out of range ({} nodes)", bvh.nodes.len()));
         };
         if *seen {
             return Err(format!("node {i} reached twice (shared child or cycle)"));
@@ -52,16 +45,10 @@ pub fn validate(bvh: &Bvh, boxes: &[Aabb]) -> Result<(), String> {
             NodeKind::Interior { left, right } => {
                 for child in [left as usize, right as usize] {
                     let Some(c) = bvh.nodes.get(child) else {
-                        return Err(format!(
-                            "node {i}: child {child} out of range ({} nodes)",
-                            bvh.nodes.len()
-                        ));
+                        return Err(format!("node {i}: child {child} out of range ({} nodes)", bvh.nodes.len()));
                     };
                     if !b.contains(&c.bounds) {
-                        return Err(format!(
-                            "node {i}: child {child} bounds {:?} outside parent {b:?}",
-                            c.bounds
-                        ));
+                        return Err(format!("node {i}: child {child} bounds {:?} outside parent {b:?}", c.bounds));
                     }
                     stack.push(child);
                 }
@@ -83,24 +70,13 @@ pub fn validate(bvh: &Bvh, boxes: &[Aabb]) -> Result<(), String> {
 /// `prim_indices` must name each of the `n` primitives exactly once.
 fn check_permutation(prim_indices: &[u32], n: usize) -> Result<(), String> {
     if prim_indices.len() != n {
-        return Err(format!(
-            "prim_indices has {} entries for {n} primitives",
-            prim_indices.len()
-        ));
+        return Err(format!("prim_indices has {} entries for {n} primitives", prim_indices.len()));
     }
     let mut seen = vec![false; n];
     for (slot, &p) in prim_indices.iter().enumerate() {
         match seen.get_mut(p as usize) {
-            None => {
-                return Err(format!(
-                    "prim_indices[{slot}] = {p} out of range ({n} primitives)"
-                ))
-            }
-            Some(true) => {
-                return Err(format!(
-                    "primitive {p} referenced twice (prim_indices[{slot}])"
-                ))
-            }
+            None => return Err(format!("prim_indices[{slot}] = {p} out of range ({n} primitives)")),
+            Some(true) => return Err(format!("primitive {p} referenced twice (prim_indices[{slot}])")),
             Some(s) => *s = true,
         }
     }
@@ -109,39 +85,20 @@ fn check_permutation(prim_indices: &[u32], n: usize) -> Result<(), String> {
 
 /// A leaf's range must be nonempty, small enough to pack, in bounds, not overlap another leaf's,
 /// and its box must contain its primitives' boxes.
-fn check_leaf(
-    i: usize,
-    first: u32,
-    count: u32,
-    bounds: &Aabb,
-    bvh: &Bvh,
-    boxes: &[Aabb],
-    covered: &mut [bool],
-) -> Result<(), String> {
+fn check_leaf(i: usize, first: u32, count: u32, bounds: &Aabb, bvh: &Bvh, boxes: &[Aabb], covered: &mut [bool]) -> Result<(), String> {
     if count == 0 {
         return Err(format!("leaf {i} is empty"));
     }
     if count > MAX_LEAF_SIZE {
-        return Err(format!(
-            "leaf {i} holds {count} primitives, more than MAX_LEAF_SIZE = {MAX_LEAF_SIZE}"
-        ));
+        return Err(format!("leaf {i} holds {count} primitives, more than MAX_LEAF_SIZE = {MAX_LEAF_SIZE}"));
     }
     let (first, end) = (first as usize, first as usize + count as usize);
-    let (Some(prims), Some(slots)) = (
-        bvh.prim_indices.get(first..end),
-        covered.get_mut(first..end),
-    ) else {
-        return Err(format!(
-            "leaf {i} range {first}..{end} outside prim_indices (len {})",
-            bvh.prim_indices.len()
-        ));
+    let (Some(prims), Some(slots)) = (bvh.prim_indices.get(first..end), covered.get_mut(first..end)) else {
+        return Err(format!("leaf {i} range {first}..{end} outside prim_indices (len {})", bvh.prim_indices.len()));
     };
     for (slot, (&p, c)) in prims.iter().zip(slots).enumerate() {
         if *c {
-            return Err(format!(
-                "leaf {i}: prim_indices[{}] also belongs to another leaf",
-                first + slot
-            ));
+            return Err(format!("leaf {i}: prim_indices[{}] also belongs to another leaf", first + slot));
         }
         *c = true;
         // `check_permutation` ran first, so `p` is in range; stay non-panicking regardless.
@@ -149,9 +106,7 @@ fn check_leaf(
             return Err(format!("leaf {i}: primitive {p} out of range"));
         };
         if !bounds.contains(pb) {
-            return Err(format!(
-                "leaf {i} bounds {bounds:?} do not contain primitive {p} box {pb:?}"
-            ));
+            return Err(format!("leaf {i} bounds {bounds:?} do not contain primitive {p} box {pb:?}"));
         }
     }
     Ok(())

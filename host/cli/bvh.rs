@@ -196,9 +196,23 @@ pub fn run(args: &BvhArgs) -> Result<()> {
 }
 
 const COLUMNS: [&str; 17] = [
-    "scene", "triangles", "builder", "layout", "build_ms", "nodes", "bytes", "sah",
-    "primary_nodes", "primary_tris", "primary_mrays", "shadow_nodes", "shadow_tris", "shadow_mrays",
-    "diffuse_nodes", "diffuse_tris", "diffuse_mrays",
+    "scene",
+    "triangles",
+    "builder",
+    "layout",
+    "build_ms",
+    "nodes",
+    "bytes",
+    "sah",
+    "primary_nodes",
+    "primary_tris",
+    "primary_mrays",
+    "shadow_nodes",
+    "shadow_tris",
+    "shadow_mrays",
+    "diffuse_nodes",
+    "diffuse_tris",
+    "diffuse_mrays",
 ];
 
 fn values(r: &Row) -> [String; 17] {
@@ -255,7 +269,11 @@ pub fn format_rows(rows: &[Row], format: Format, device: &str) -> String {
                     .enumerate()
                     .map(|(k, (c, v))| {
                         // Columns 0, 2 and 3 are names; the others are numbers.
-                        if matches!(k, 0 | 2 | 3) { format!("\"{c}\": {}", json_string(&v)) } else { format!("\"{c}\": {v}") }
+                        if matches!(k, 0 | 2 | 3) {
+                            format!("\"{c}\": {}", json_string(&v))
+                        } else {
+                            format!("\"{c}\": {v}")
+                        }
                     })
                     .collect();
                 let _ = writeln!(s, "  {{{}}}{}", fields.join(", "), if i + 1 < rows.len() { "," } else { "" });

@@ -40,11 +40,7 @@ const DIFF_UNITS: f64 = 1e4;
 
 /// Each pixel's sum over the channels of (a - b)^2 / (b^2 + 0.01): what the relMSE averages.
 pub fn relative_errors(a: &Image, b: &Image) -> Vec<f64> {
-    a.pixels
-        .iter()
-        .zip(&b.pixels)
-        .map(|(p, q)| (0..3).map(|c| (p[c] as f64 - q[c] as f64).powi(2) / ((q[c] as f64).powi(2) + 0.01)).sum())
-        .collect()
+    a.pixels.iter().zip(&b.pixels).map(|(p, q)| (0..3).map(|c| (p[c] as f64 - q[c] as f64).powi(2) / ((q[c] as f64).powi(2) + 0.01)).sum()).collect()
 }
 
 /// Whether an image file holds display-referred values (an 8-bit picture, tone-mapped and
@@ -104,14 +100,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     if args.downsample {
         let k = a.width / b.width.max(1);
         if k == 0 || a.width != k * b.width || a.height != k * b.height {
-            bail!(
-                "--downsample: {} is {}x{}, not a whole multiple of the reference's {}x{}",
-                args.image.display(),
-                a.width,
-                a.height,
-                b.width,
-                b.height
-            );
+            bail!("--downsample: {} is {}x{}, not a whole multiple of the reference's {}x{}", args.image.display(), a.width, a.height, b.width, b.height);
         }
         a = a.box_downsample(k);
     }

@@ -51,12 +51,6 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     } else {
         output::write_render(&args.output, &merged.accum.image(), &args.display.display())?;
     }
-    eprintln!(
-        "merged {} checkpoint(s) (seeds {:?}): {} spp into {}",
-        args.inputs.len(),
-        merged.settings.seeds,
-        merged.accum.samples,
-        args.output.display()
-    );
+    eprintln!("merged {} checkpoint(s) (seeds {:?}): {} spp into {}", args.inputs.len(), merged.settings.seeds, merged.accum.samples, args.output.display());
     Ok(())
 }

@@ -9,10 +9,10 @@ pub mod interrupt;
 pub mod merge;
 pub mod progress;
 pub mod rays;
-pub mod shard;
-pub mod sky;
 pub mod render;
 pub mod render_path;
+pub mod shard;
+pub mod sky;
 pub mod trace;
 
 use crate::gpu::{Context, ContextOptions};

@@ -42,8 +42,22 @@ pub struct Progress {
 
 /// `1234567` as `1.23M`: three significant digits.
 fn si(x: f64) -> String {
-    let (v, unit) = if x >= 1e9 { (x / 1e9, "G") } else if x >= 1e6 { (x / 1e6, "M") } else if x >= 1e3 { (x / 1e3, "k") } else { (x, "") };
-    let digits = if v >= 100.0 { 0 } else if v >= 10.0 { 1 } else { 2 };
+    let (v, unit) = if x >= 1e9 {
+        (x / 1e9, "G")
+    } else if x >= 1e6 {
+        (x / 1e6, "M")
+    } else if x >= 1e3 {
+        (x / 1e3, "k")
+    } else {
+        (x, "")
+    };
+    let digits = if v >= 100.0 {
+        0
+    } else if v >= 10.0 {
+        1
+    } else {
+        2
+    };
     format!("{v:.digits$}{unit}")
 }
 
@@ -142,7 +156,13 @@ mod tests {
     /// The bar's line, with its longest plausible status, fits an 80-column terminal.
     #[test]
     fn the_bar_line_fits_80_columns() {
-        let s = Status { fraction: 0.4567, start_fraction: 0.0, count: Some((123_456, Some(999_999), "spp")), rays_per_second: Some(987.65e9), relmse: Some(1.234e-10) };
+        let s = Status {
+            fraction: 0.4567,
+            start_fraction: 0.0,
+            count: Some((123_456, Some(999_999), "spp")),
+            rays_per_second: Some(987.65e9),
+            relmse: Some(1.234e-10),
+        };
         let line = format!("[{}] {}", "=".repeat(BAR_WIDTH), s.describe(86_399.0, false));
         assert!(line.chars().count() <= 80, "{} columns: {line}", line.chars().count());
         let long = s.describe(12.3, true);

@@ -4,25 +4,25 @@
 //! beyond what the device and the machine can hold, an unwritable output. A resumed path-traced
 //! run takes its scene, size, camera and sampling settings from its checkpoint.
 
-use crate::integrator::path::connections::{self, Connections};
 use super::args::{at_least_one, exposure, fov, non_negative, vec3, whole};
 use super::progress::{Progress, Status};
 use super::render_path::{self, PathArgs, PathRun};
 use super::shard;
-use crate::integrator::path::shard::Shard;
-use crate::integrator::path::Stop;
 use super::DeviceArgs;
 use crate::accel::LayoutKind;
 use crate::bvh::{BuildConfig, BuilderKind};
 use crate::gpu::DeviceInfo;
 use crate::integrator::path::checkpoint::{camera_flags, Checkpoint, Identity, CAMERA_NUMBERS};
+use crate::integrator::path::connections::{self, Connections};
+use crate::integrator::path::shard::Shard;
+use crate::integrator::path::Stop;
 use crate::integrator::{whitted, Image, RenderSettings};
+use crate::output;
 use crate::output::display::{Display, Exposure, Tonemap};
 use crate::prepare::cache::{prepare_scene, Cache, CacheOutcome, Prepared, Storing};
 use crate::prepare::{Features, GpuScene, PrepareOptions};
 use crate::scene::camera::Lens;
 use crate::scene::{Camera, SceneSummary};
-use crate::output;
 use anyhow::{bail, Context as _, Result};
 use clap::{Args, ValueEnum};
 use glam::Vec3;
@@ -315,11 +315,7 @@ pub fn check_image_size(device: &DeviceInfo, width: u32, height: u32, integrator
     }
     if let Some(free) = available_memory() {
         if pixels * host_total > free {
-            bail!(
-                "--width {width} --height {height} needs about {} MiB of memory for the image; {} MiB are available",
-                mib(pixels * host_total),
-                mib(free)
-            );
+            bail!("--width {width} --height {height} needs about {} MiB of memory for the image; {} MiB are available", mib(pixels * host_total), mib(free));
         }
     }
     Ok(())
@@ -568,12 +564,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
     };
     let dropped = if stats.nonfinite_samples > 0 { format!(" ({} NaN/Inf samples dropped)", stats.nonfinite_samples) } else { String::new() };
-    say.line(&format!(
-        "rendered {} at {width}x{height}, {what} in {:.3} s on {}{dropped}",
-        output.display(),
-        stats.seconds,
-        ctx.info.name
-    ));
+    say.line(&format!("rendered {} at {width}x{height}, {what} in {:.3} s on {}{dropped}", output.display(), stats.seconds, ctx.info.name));
     Ok(())
 }
 
@@ -641,6 +632,9 @@ fn report(
     eprintln!("triangle list: {} triangles, {} of them walls that shadow rays skip", gpu.bvh.list_count, gpu.list_walls.count_ones());
     if integrator == IntegratorKind::Path {
         // What the path tracer samples beyond lights and BSDFs (prepare::mirrors, prepare::casters).
-        eprintln!("planar mirror planes light is sampled through: {}; caustic casters diffuse bounces are aimed at: {}", gpu.mirror_plane_count, gpu.caster_count);
+        eprintln!(
+            "planar mirror planes light is sampled through: {}; caustic casters diffuse bounces are aimed at: {}",
+            gpu.mirror_plane_count, gpu.caster_count
+        );
     }
 }

@@ -8,10 +8,10 @@ use super::progress::{Progress, Status};
 use super::shard::ShardArgs;
 use crate::gpu::Context;
 use crate::gpu_abi::constants::{NEE_OFF, NEE_ON, NEE_WITH_CONNECTIONS, PATH_DEPTH_UNBOUNDED};
-use crate::integrator::path::connections::Connections;
 use crate::integrator::path::checkpoint::{hash_inputs, Checkpoint, Identity, InputHash, ResumeDefaults, RunSettings};
-use crate::integrator::path::shard::{Shard, ShardSet};
 use crate::integrator::path::coherence::{DEFAULT_COHERENCE, DEFAULT_COHERENCE_BLOCK};
+use crate::integrator::path::connections::Connections;
+use crate::integrator::path::shard::{Shard, ShardSet};
 use crate::integrator::path::{self, Accumulation, Hooks, PathProgress, PathSettings, SamplerKind, Stop};
 use crate::integrator::{Image, RenderSettings, RenderStats};
 use crate::prepare::GpuScene;
@@ -175,7 +175,10 @@ pub fn path_settings(args: &PathArgs, image: RenderSettings, max_depth: Option<u
         zsobol_log2: resumed.map_or_else(|| path::zsobol_log2(stop.spp), |r| r.zsobol_log2),
         nee: if args.no_nee { false } else { resumed.map_or(true, |r| r.nee != NEE_OFF) },
         // A resumed run keeps the checkpoint's estimator: connections on if it recorded them.
-        connections: args.connections.or_else(|| resumed.map(|r| if r.nee == NEE_WITH_CONNECTIONS { Connections::On } else { Connections::Off })).unwrap_or_default(),
+        connections: args
+            .connections
+            .or_else(|| resumed.map(|r| if r.nee == NEE_WITH_CONNECTIONS { Connections::On } else { Connections::Off }))
+            .unwrap_or_default(),
         coherence,
         coherence_block,
         adaptive: args.adaptive,
@@ -276,7 +279,8 @@ fn resumed_sums(c: &Checkpoint, path: &Path, run: &PathRun, ours: &RunSettings, 
         bail!("cannot resume {}: it holds seeds {:?}, this run uses seed {}", path.display(), c.settings.seeds, run.seed);
     }
     if c.settings.shards != ours.shards {
-        let show = |s: &Option<ShardSet>| s.as_ref().map_or("a whole run".to_string(), |s| format!("shards {:?} of {} ({} spp)", s.indices, s.count, s.total_spp));
+        let show =
+            |s: &Option<ShardSet>| s.as_ref().map_or("a whole run".to_string(), |s| format!("shards {:?} of {} ({} spp)", s.indices, s.count, s.total_spp));
         bail!("cannot resume {}: it holds {}, this run is {}", path.display(), show(&c.settings.shards), show(&ours.shards));
     }
     let to = run.settings.stop.spp.map_or(String::new(), |n| format!(", going on to {n}"));

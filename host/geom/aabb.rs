@@ -25,7 +25,11 @@ impl Aabb {
         self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
     }
     pub fn extent(&self) -> Vec3 {
-        if self.is_empty() { Vec3::ZERO } else { self.max - self.min }
+        if self.is_empty() {
+            Vec3::ZERO
+        } else {
+            self.max - self.min
+        }
     }
     pub fn center(&self) -> Vec3 {
         0.5 * (self.min + self.max)
@@ -38,7 +42,13 @@ impl Aabb {
     /// The axis (0, 1, 2) along which the box is widest.
     pub fn widest_axis(&self) -> usize {
         let e = self.extent();
-        if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 }
+        if e.x >= e.y && e.x >= e.z {
+            0
+        } else if e.y >= e.z {
+            1
+        } else {
+            2
+        }
     }
     /// True if `o` lies inside this box (boundaries included).
     pub fn contains(&self, o: &Aabb) -> bool {

@@ -61,14 +61,9 @@ impl<'a> Buffer<'a> {
     /// A view of the whole buffer as texels of `format`, for a `utextureBuffer`; the buffer
     /// needs UNIFORM_TEXEL_BUFFER usage.
     pub fn texel_view(&self, format: TexelFormat) -> Result<TexelView<'a>> {
-        let info = vk::BufferViewCreateInfo::default()
-            .buffer(self.buffer)
-            .format(format.vk())
-            .offset(0)
-            .range(self.size / format.bytes() * format.bytes());
+        let info = vk::BufferViewCreateInfo::default().buffer(self.buffer).format(format.vk()).offset(0).range(self.size / format.bytes() * format.bytes());
         // SAFETY: valid buffer made with texel usage (checked by the validation layers in tests).
-        let view = unsafe { self.ctx.device.create_buffer_view(&info, None) }
-            .with_context(|| format!("vkCreateBufferView '{}' ({format:?})", self.name))?;
+        let view = unsafe { self.ctx.device.create_buffer_view(&info, None) }.with_context(|| format!("vkCreateBufferView '{}' ({format:?})", self.name))?;
         Ok(TexelView { ctx: self.ctx, view })
     }
 
@@ -96,7 +91,11 @@ impl<'a> Buffer<'a> {
     /// As [`Self::write_with`], waiting only for submission `ticket`: the caller promises that
     /// no later submission in flight uses this buffer. An unmapped buffer waits for all.
     pub fn write_after<T: bytemuck::Pod>(&self, ticket: Ticket, count: usize, fill: impl FnOnce(&mut [T])) -> Result<()> {
-        if self.is_mapped() { self.ctx.wait(ticket)? } else { self.ctx.drain()? }
+        if self.is_mapped() {
+            self.ctx.wait(ticket)?
+        } else {
+            self.ctx.drain()?
+        }
         self.write_unsynchronized(count, fill)
     }
 
@@ -156,7 +155,11 @@ impl<'a> Buffer<'a> {
     /// As [`Self::read_with`], waiting only for submission `ticket` (same promise as
     /// [`Self::write_after`]).
     pub fn read_after<T: bytemuck::Pod>(&self, ticket: Ticket, count: usize, take: impl FnOnce(&[T])) -> Result<()> {
-        if self.reads_in_place() { self.ctx.wait(ticket)? } else { self.ctx.drain()? }
+        if self.reads_in_place() {
+            self.ctx.wait(ticket)?
+        } else {
+            self.ctx.drain()?
+        }
         self.read_unsynchronized(count, take)
     }
 

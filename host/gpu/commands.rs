@@ -38,10 +38,7 @@ pub struct Submissions {
 impl Submissions {
     /// `IN_FLIGHT` command buffers from `pool` and their fences.
     pub(super) fn new(device: &ash::Device, pool: vk::CommandPool) -> Result<Self> {
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(IN_FLIGHT as u32);
+        let alloc = vk::CommandBufferAllocateInfo::default().command_pool(pool).level(vk::CommandBufferLevel::PRIMARY).command_buffer_count(IN_FLIGHT as u32);
         let mut ring = Self { slots: Vec::new(), next: 0, submitted: 0 };
         // SAFETY: valid device and pool; on failure the fences made so far are destroyed here
         // (the command buffers go with the pool, which the caller destroys).
@@ -94,9 +91,7 @@ impl Submissions {
         Self::wait_slot(device, slot).with_context(|| format!("waiting for an earlier submission before {what}"))?;
         // SAFETY: the slot's command buffer is not pending (waited above); its pool allows reset.
         unsafe {
-            device
-                .reset_command_buffer(slot.cmd, vk::CommandBufferResetFlags::empty())
-                .with_context(|| format!("vkResetCommandBuffer for {what}"))?;
+            device.reset_command_buffer(slot.cmd, vk::CommandBufferResetFlags::empty()).with_context(|| format!("vkResetCommandBuffer for {what}"))?;
             let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device.begin_command_buffer(slot.cmd, &begin).with_context(|| format!("vkBeginCommandBuffer for {what}"))?;
             record_barrier(device, slot.cmd);
@@ -164,12 +159,7 @@ fn record_barrier(device: &ash::Device, cmd: vk::CommandBuffer) {
     let stages = vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER;
     let barrier = [vk::MemoryBarrier::default()
         .src_access_mask(vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE)
-        .dst_access_mask(
-            vk::AccessFlags::SHADER_READ
-                | vk::AccessFlags::SHADER_WRITE
-                | vk::AccessFlags::TRANSFER_READ
-                | vk::AccessFlags::TRANSFER_WRITE,
-        )];
+        .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::TRANSFER_WRITE)];
     // SAFETY: `cmd` is in the recording state (called while recording a submission).
     unsafe { device.cmd_pipeline_barrier(cmd, stages, stages, vk::DependencyFlags::empty(), &barrier, &[], &[]) };
 }

@@ -1,14 +1,14 @@
 //! The Vulkan instance, the chosen physical device, its logical device and compute queue.
 
-use super::device_info::DeviceInfo;
-use anyhow::{anyhow, bail, Context as _, Result};
-use ash::vk;
-use std::ffi::{c_void, CStr};
-use std::sync::Mutex;
 use super::commands::Submissions;
+use super::device_info::DeviceInfo;
 use super::memory::{new_allocator, HostAccess};
 use super::staging::Staging;
+use anyhow::{anyhow, bail, Context as _, Result};
+use ash::vk;
 use gpu_allocator::vulkan::Allocator;
+use std::ffi::{c_void, CStr};
+use std::sync::Mutex;
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -174,10 +174,7 @@ fn load_entry() -> Result<ash::Entry> {
 }
 
 fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
-    let app = vk::ApplicationInfo::default()
-        .application_name(c"vkrt")
-        .engine_name(c"vkrt")
-        .api_version(vk::API_VERSION_1_2);
+    let app = vk::ApplicationInfo::default().application_name(c"vkrt").engine_name(c"vkrt").api_version(vk::API_VERSION_1_2);
     let layers = [VALIDATION_LAYER.as_ptr()];
     let extensions = [ash::ext::debug_utils::NAME.as_ptr(), ash::ext::validation_features::NAME.as_ptr()];
     // Synchronization validation too: it reports missing barriers between submissions and
@@ -229,10 +226,7 @@ fn effective_access(own: HostAccess, forced: Option<HostAccess>) -> HostAccess {
 pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize> {
     let usable: Vec<&DeviceInfo> = infos.iter().filter(|d| d.usable).collect();
     if usable.is_empty() {
-        bail!(
-            "no usable Vulkan device (found {}). On a machine without a GPU install Mesa's lavapipe: run `tools/ensure-deps.sh` as root",
-            infos.len()
-        );
+        bail!("no usable Vulkan device (found {}). On a machine without a GPU install Mesa's lavapipe: run `tools/ensure-deps.sh` as root", infos.len());
     }
     match wanted {
         Some(w) => {
@@ -257,9 +251,10 @@ impl Context {
     pub fn new(options: &ContextOptions) -> Result<Self> {
         let forced = match options.memory.as_deref() {
             None => None,
-            Some(name) => Some(HostAccess::from_name(name).ok_or_else(|| {
-                anyhow!("VKRT_MEMORY='{name}': expected 'mapped-writes' or 'staged' (or unset: the device's own way)")
-            })?),
+            Some(name) => Some(
+                HostAccess::from_name(name)
+                    .ok_or_else(|| anyhow!("VKRT_MEMORY='{name}': expected 'mapped-writes' or 'staged' (or unset: the device's own way)"))?,
+            ),
         };
         let _turn = lifecycle_turn();
         let entry = load_entry()?;
@@ -281,9 +276,7 @@ impl Context {
             let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
                 .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
                 .message_type(
-                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
-                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
                 )
                 .pfn_user_callback(Some(debug_callback))
                 .user_data(&*messages as *const Mutex<Vec<String>> as *mut c_void);
@@ -337,8 +330,18 @@ impl Context {
         instance: &ash::Instance,
         options: &ContextOptions,
         shader_objects: ShaderObjectUse,
-    ) -> Result<(vk::PhysicalDevice, ash::Device, vk::Queue, u32, vk::CommandPool, vk::PhysicalDeviceMemoryProperties, DeviceInfo, Allocator, Submissions, Option<([u8; vk::UUID_SIZE], u32)>)>
-    {
+    ) -> Result<(
+        vk::PhysicalDevice,
+        ash::Device,
+        vk::Queue,
+        u32,
+        vk::CommandPool,
+        vk::PhysicalDeviceMemoryProperties,
+        DeviceInfo,
+        Allocator,
+        Submissions,
+        Option<([u8; vk::UUID_SIZE], u32)>,
+    )> {
         let pds = instance.enumerate_physical_devices().context("vkEnumeratePhysicalDevices")?;
         let infos: Vec<DeviceInfo> = pds.iter().enumerate().map(|(i, &pd)| DeviceInfo::query(instance, pd, i)).collect();
         let index = choose_device(&infos, options.device.as_deref())?;
@@ -367,13 +370,9 @@ impl Context {
         if binary.is_some() {
             device_info = device_info.enabled_extension_names(&extensions).push_next(&mut feature);
         }
-        let device = instance
-            .create_device(physical, &device_info, None)
-            .with_context(|| format!("vkCreateDevice on {}", info.name))?;
+        let device = instance.create_device(physical, &device_info, None).with_context(|| format!("vkCreateDevice on {}", info.name))?;
         let queue = device.get_device_queue(queue_family, 0);
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(queue_family).flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         let command_pool = match device.create_command_pool(&pool_info, None) {
             Ok(p) => p,
             Err(e) => {
@@ -403,7 +402,11 @@ impl Context {
     /// Fails if the validation layers reported anything.
     pub fn check_validation(&self) -> Result<()> {
         let m = self.validation_messages();
-        if m.is_empty() { Ok(()) } else { bail!("{} Vulkan validation message(s); first: {}", m.len(), m[0]) }
+        if m.is_empty() {
+            Ok(())
+        } else {
+            bail!("{} Vulkan validation message(s); first: {}", m.len(), m[0])
+        }
     }
 }
 

@@ -56,10 +56,7 @@ impl DeviceInfo {
             .map(|h| h.size)
             .max()
             .unwrap_or(0);
-        let has_compute = instance
-            .get_physical_device_queue_family_properties(pd)
-            .iter()
-            .any(|q| q.queue_flags.contains(vk::QueueFlags::COMPUTE));
+        let has_compute = instance.get_physical_device_queue_family_properties(pd).iter().any(|q| q.queue_flags.contains(vk::QueueFlags::COMPUTE));
         let api_ok = vk::api_version_major(p.api_version) > 1 || vk::api_version_minor(p.api_version) >= 2;
         Self {
             index,
@@ -108,8 +105,23 @@ impl DeviceInfo {
 impl fmt::Display for DeviceInfo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = self.api_version;
-        writeln!(f, "[{}] {} ({}){}", self.index, self.name, self.type_name(), if self.usable { "" } else { " - not usable: needs Vulkan 1.2 and a compute queue" })?;
-        writeln!(f, "    Vulkan {}.{}.{}, driver {} {}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v), self.driver_name, self.driver_info)?;
+        writeln!(
+            f,
+            "[{}] {} ({}){}",
+            self.index,
+            self.name,
+            self.type_name(),
+            if self.usable { "" } else { " - not usable: needs Vulkan 1.2 and a compute queue" }
+        )?;
+        writeln!(
+            f,
+            "    Vulkan {}.{}.{}, driver {} {}",
+            vk::api_version_major(v),
+            vk::api_version_minor(v),
+            vk::api_version_patch(v),
+            self.driver_name,
+            self.driver_info
+        )?;
         writeln!(f, "    max storage buffer range: {} MiB", self.max_storage_buffer_range / (1024 * 1024))?;
         writeln!(f, "    max texel buffer elements: {}", self.max_texel_buffer_elements)?;
         writeln!(f, "    max workgroup size: {:?}, max invocations: {}", self.max_workgroup_size, self.max_workgroup_invocations)?;

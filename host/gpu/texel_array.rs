@@ -32,11 +32,7 @@ impl<'a> TexelArray<'a> {
             );
         }
         let usage = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
-        let buffer = if data.is_empty() {
-            Buffer::with_data(ctx, name, &[T::zeroed()], usage)?
-        } else {
-            Buffer::with_data(ctx, name, data, usage)?
-        };
+        let buffer = if data.is_empty() { Buffer::with_data(ctx, name, &[T::zeroed()], usage)? } else { Buffer::with_data(ctx, name, data, usage)? };
         Ok(Self { view: buffer.texel_view(format)?, buffer })
     }
 }

@@ -18,12 +18,8 @@ impl<'a> GpuTimer<'a> {
     /// None if the compute queue has no timestamps (timestampValidBits = 0).
     pub fn new(ctx: &'a Context, pairs: u32) -> Result<Option<Self>> {
         // SAFETY: valid instance and physical device.
-        let (families, props) = unsafe {
-            (
-                ctx.instance.get_physical_device_queue_family_properties(ctx.physical),
-                ctx.instance.get_physical_device_properties(ctx.physical),
-            )
-        };
+        let (families, props) =
+            unsafe { (ctx.instance.get_physical_device_queue_family_properties(ctx.physical), ctx.instance.get_physical_device_properties(ctx.physical)) };
         let valid_bits = families.get(ctx.queue_family as usize).map_or(0, |f| f.timestamp_valid_bits);
         if valid_bits == 0 || props.limits.timestamp_period <= 0.0 {
             return Ok(None);

@@ -55,7 +55,6 @@ pub use dispatch::*;
 pub use nodes::*;
 pub use scene_data::*;
 
-
 /// Every GPU struct's layout: what `tests/layout.rs` checks against the SPIR-V.
 pub const ALL_STRUCTS: &[&[StructLayout]] = &[nodes::STRUCTS, scene_data::STRUCTS, dispatch::STRUCTS];
 

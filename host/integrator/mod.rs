@@ -34,7 +34,11 @@ pub struct RenderSettings {
 impl RenderSettings {
     /// The features the shader is specialised for: the scene's, or all of them.
     pub fn features(&self, scene: &crate::prepare::SceneInfo) -> crate::prepare::Features {
-        if self.all_features { crate::prepare::Features::all() } else { scene.features.clone() }
+        if self.all_features {
+            crate::prepare::Features::all()
+        } else {
+            scene.features.clone()
+        }
     }
 }
 

@@ -96,14 +96,7 @@ pub fn dispatch_samples(
     let wg = ctx.workgroups;
     for ty in 0..settings.height.div_ceil(tile) {
         for tx in 0..settings.width.div_ceil(tile) {
-            let push = GpuPush {
-                tile_x: tx * tile,
-                tile_y: ty * tile,
-                sample_base,
-                sample_count,
-                total_spp,
-                ..*scene
-            };
+            let push = GpuPush { tile_x: tx * tile, tile_y: ty * tile, sample_base, sample_count, total_spp, ..*scene };
             let w = tile.min(settings.width - push.tile_x).next_multiple_of(align);
             let h = tile.min(settings.height - push.tile_y).next_multiple_of(align);
             let groups = [w.div_ceil(wg.x), h.div_ceil(wg.y), 1];

@@ -24,7 +24,10 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
         bail!("image size {}x{} is empty", settings.width, settings.height);
     }
     if !(1..=MAX_DEPTH).contains(&settings.max_depth) {
-        bail!("the Whitted integrator traces 1 to {MAX_DEPTH} rays per path (its ray tree lives on a fixed stack); max depth {} is outside that", settings.max_depth);
+        bail!(
+            "the Whitted integrator traces 1 to {MAX_DEPTH} rays per path (its ray tree lives on a fixed stack); max depth {} is outside that",
+            settings.max_depth
+        );
     }
     let start = std::time::Instant::now();
     let pixels = settings.width as u64 * settings.height as u64;

@@ -118,11 +118,7 @@ impl Display {
     /// `image` exposed and tone-mapped: linear values in [0, 1], ready for the sRGB encoding.
     pub fn apply(&self, image: &Image) -> Image {
         let scale = self.exposure.scale(image);
-        Image {
-            width: image.width,
-            height: image.height,
-            pixels: image.pixels.iter().map(|p| self.tonemap.apply(p.map(|x| x * scale))).collect(),
-        }
+        Image { width: image.width, height: image.height, pixels: image.pixels.iter().map(|p| self.tonemap.apply(p.map(|x| x * scale))).collect() }
     }
 }
 

@@ -31,7 +31,11 @@ impl ImageFormat {
 /// Linear to sRGB-encoded, clamped to [0, 1] (IEC 61966-2-1).
 pub fn linear_to_srgb(x: f32) -> f32 {
     let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-    if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 }
+    if x <= 0.0031308 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
 }
 
 /// Fails now, before any rendering, if `path` has an unknown extension or its folder cannot
@@ -53,11 +57,7 @@ pub fn write_image(path: &Path, image: &Image) -> Result<()> {
 fn write_format(path: &Path, format: ImageFormat, image: &Image) -> Result<()> {
     match format {
         ImageFormat::Png => {
-            let bytes: Vec<u8> = image
-                .pixels
-                .iter()
-                .flat_map(|p| p.map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8))
-                .collect();
+            let bytes: Vec<u8> = image.pixels.iter().flat_map(|p| p.map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8)).collect();
             let buf = image::RgbImage::from_raw(image.width, image.height, bytes).ok_or_else(|| anyhow!("image size mismatch"))?;
             buf.save_with_format(path, image::ImageFormat::Png)?;
         }
@@ -94,10 +94,7 @@ pub fn read_image(path: &Path) -> Result<Image> {
             let linear = format == ImageFormat::Exr;
             let rgb = img.to_rgb32f();
             let (width, height) = rgb.dimensions();
-            let pixels = rgb
-                .pixels()
-                .map(|p| if linear { p.0 } else { p.0.map(srgb_to_linear) })
-                .collect();
+            let pixels = rgb.pixels().map(|p| if linear { p.0 } else { p.0.map(srgb_to_linear) }).collect();
             Ok(Image { width, height, pixels })
         }
     }
@@ -105,7 +102,11 @@ pub fn read_image(path: &Path) -> Result<Image> {
 
 /// sRGB-encoded to linear (IEC 61966-2-1).
 pub fn srgb_to_linear(x: f32) -> f32 {
-    if x <= 0.04045 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) }
+    if x <= 0.04045 {
+        x / 12.92
+    } else {
+        ((x + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 fn read_pfm(path: &Path) -> Result<Image> {
@@ -145,13 +146,21 @@ pub fn pfm_from_bytes(data: &[u8]) -> Result<Image> {
     // Three float32 channels per pixel; a damaged size overflows here rather than in an index.
     let bytes = (width as usize).checked_mul(height as usize).and_then(|n| n.checked_mul(3 * 4));
     let body = bytes.and_then(|n| data.get(pos..pos.checked_add(n)?)).ok_or_else(|| {
-        anyhow!("truncated PFM data: {width}x{height} pixels need {} bytes after the header, the file has {}", width as u128 * height as u128 * 12, data.len().saturating_sub(pos))
+        anyhow!(
+            "truncated PFM data: {width}x{height} pixels need {} bytes after the header, the file has {}",
+            width as u128 * height as u128 * 12,
+            data.len().saturating_sub(pos)
+        )
     })?;
     let floats: Vec<f32> = body
         .chunks_exact(4)
         .map(|b| {
             let a = [b[0], b[1], b[2], b[3]];
-            if little { f32::from_le_bytes(a) } else { f32::from_be_bytes(a) }
+            if little {
+                f32::from_le_bytes(a)
+            } else {
+                f32::from_be_bytes(a)
+            }
         })
         .collect();
     let mut image = Image::new(width, height);

@@ -124,12 +124,7 @@ impl RayReader {
         let data_start = file.stream_position().with_context(ctx)?;
         let expected = count.checked_mul(32).and_then(|b| b.checked_add(data_start));
         if expected != Some(size) {
-            bail!(
-                "{}: shape ({count}, 8) needs {} bytes of data, the file has {}",
-                path.display(),
-                count.saturating_mul(32),
-                size.saturating_sub(data_start)
-            );
+            bail!("{}: shape ({count}, 8) needs {} bytes of data, the file has {}", path.display(), count.saturating_mul(32), size.saturating_sub(data_start));
         }
         Ok(Self { path: path.to_path_buf(), file, count, read: 0 })
     }
@@ -141,9 +136,7 @@ impl RayReader {
     pub fn next_batch(&mut self, max: usize) -> Result<Vec<GpuRay>> {
         let n = (self.count - self.read).min(max as u64) as usize;
         let mut bytes = vec![0u8; n * std::mem::size_of::<GpuRay>()];
-        self.file
-            .read_exact(&mut bytes)
-            .with_context(|| format!("reading rays {}..{} from {}", self.read, self.read + n as u64, self.path.display()))?;
+        self.file.read_exact(&mut bytes).with_context(|| format!("reading rays {}..{} from {}", self.read, self.read + n as u64, self.path.display()))?;
         self.read += n as u64;
         Ok(bytes
             .chunks_exact(32)

@@ -5,10 +5,10 @@
 //! binary a run before kept in the shader cache when there is one (super::shader_cache), else
 //! from the SPIR-V; elsewhere it is a compute pipeline. Both run the same code.
 
+use super::shader_cache::{self, ShaderKey};
 use crate::gpu::shader_objects::ShaderObjects;
 use crate::gpu::{Buffer, Context, TexelView, IN_FLIGHT};
 use crate::gpu_abi::constants::{SPEC_CORRECT_DIVISION, SPEC_WORKGROUP_1D, SPEC_WORKGROUP_X, SPEC_WORKGROUP_Y};
-use super::shader_cache::{self, ShaderKey};
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 
@@ -153,24 +153,13 @@ impl<'a> ComputePipeline<'a> {
     /// `bool` constant takes 0 or 1); constants not listed keep the shader's defaults. Every
     /// pipeline also gets the device's workgroup shape (`ctx.workgroups`, SPEC_WORKGROUP_*) and
     /// whether its division needs correcting (SPEC_CORRECT_DIVISION), unless listed here.
-    pub fn specialized(
-        ctx: &'a Context,
-        name: &str,
-        spv: &[u8],
-        bindings: &[(u32, BindingKind)],
-        push_size: u32,
-        constants: &[(u32, u32)],
-    ) -> Result<Self> {
+    pub fn specialized(ctx: &'a Context, name: &str, spv: &[u8], bindings: &[(u32, BindingKind)], push_size: u32, constants: &[(u32, u32)]) -> Result<Self> {
         let start = std::time::Instant::now();
         let dev = &ctx.device;
         let code = crate::pipeline::shaders::words(spv).with_context(|| format!("shader '{name}'"))?;
         let wg = ctx.workgroups;
-        let device = [
-            (SPEC_WORKGROUP_X, wg.x),
-            (SPEC_WORKGROUP_Y, wg.y),
-            (SPEC_WORKGROUP_1D, wg.d1),
-            (SPEC_CORRECT_DIVISION, !ctx.info.divides_exactly as u32),
-        ];
+        let device =
+            [(SPEC_WORKGROUP_X, wg.x), (SPEC_WORKGROUP_Y, wg.y), (SPEC_WORKGROUP_1D, wg.d1), (SPEC_CORRECT_DIVISION, !ctx.info.divides_exactly as u32)];
         // The caller's value wins where it names a device constant (a test forcing one).
         let given = |id: u32| constants.iter().any(|&(c, _)| c == id);
         let constants: Vec<(u32, u32)> = constants.iter().copied().chain(device.into_iter().filter(|&(id, _)| !given(id))).collect();
@@ -213,11 +202,8 @@ impl<'a> ComputePipeline<'a> {
                 layout_info = layout_info.push_constant_ranges(&ranges);
             }
             p.layout = dev.create_pipeline_layout(&layout_info, None).with_context(|| format!("vkCreatePipelineLayout '{name}'"))?;
-            let entries: Vec<vk::SpecializationMapEntry> = constants
-                .iter()
-                .enumerate()
-                .map(|(i, &(id, _))| vk::SpecializationMapEntry { constant_id: id, offset: 4 * i as u32, size: 4 })
-                .collect();
+            let entries: Vec<vk::SpecializationMapEntry> =
+                constants.iter().enumerate().map(|(i, &(id, _))| vk::SpecializationMapEntry { constant_id: id, offset: 4 * i as u32, size: 4 }).collect();
             let data: Vec<u8> = constants.iter().flat_map(|&(_, v)| v.to_ne_bytes()).collect();
             let spec = vk::SpecializationInfo::default().map_entries(&entries).data(&data);
             if let Some(so) = &ctx.shader_objects {
@@ -227,10 +213,7 @@ impl<'a> ComputePipeline<'a> {
                 p.module = dev
                     .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
                     .with_context(|| format!("vkCreateShaderModule '{name}'"))?;
-                let mut stage = vk::PipelineShaderStageCreateInfo::default()
-                    .stage(vk::ShaderStageFlags::COMPUTE)
-                    .module(p.module)
-                    .name(c"main");
+                let mut stage = vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::COMPUTE).module(p.module).name(c"main");
                 if !constants.is_empty() {
                     stage = stage.specialization_info(&spec);
                 }
@@ -270,11 +253,7 @@ impl<'a> ComputePipeline<'a> {
 
     /// What binding `binding` holds.
     fn kind(&self, binding: u32) -> Result<BindingKind> {
-        self.bindings
-            .iter()
-            .find(|b| b.0 == binding)
-            .map(|b| b.1)
-            .ok_or_else(|| anyhow!("pipeline '{}' has no binding {binding}", self.name))
+        self.bindings.iter().find(|b| b.0 == binding).map(|b| b.1).ok_or_else(|| anyhow!("pipeline '{}' has no binding {binding}", self.name))
     }
 
     /// Points binding `binding` of every set at `buffer` (whole buffer), after the
@@ -296,11 +275,7 @@ impl<'a> ComputePipeline<'a> {
         let dst = *self.sets.get(set).ok_or_else(|| anyhow!("pipeline '{}' has no descriptor set {set}", self.name))?;
         self.ctx.drain()?;
         let info = [vk::DescriptorBufferInfo { buffer: buffer.buffer, offset: 0, range: vk::WHOLE_SIZE }];
-        let write = [vk::WriteDescriptorSet::default()
-            .dst_set(dst)
-            .dst_binding(binding)
-            .descriptor_type(kind.vk())
-            .buffer_info(&info)];
+        let write = [vk::WriteDescriptorSet::default().dst_set(dst).dst_binding(binding).descriptor_type(kind.vk()).buffer_info(&info)];
         // SAFETY: no submission using the set is in flight (drained above).
         unsafe { self.ctx.device.update_descriptor_sets(&write, &[]) };
         Ok(())

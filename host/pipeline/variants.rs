@@ -45,7 +45,13 @@ pub const SHADERS: &[Shader] = &[
     // pipeline creation (0.092 -> 0.12 s for a 16² 1-spp render, median of 6). They never make
     // light-vertex connections, so CASTERS also compiles that code out (light_connection.glsl).
     Shader { name: "path_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "CASTERS"], per_layout: true, role: Role::Product },
-    Shader { name: "path_mirrors_casters", source: "path.comp", defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS", "CASTERS"], per_layout: true, role: Role::Product },
+    Shader {
+        name: "path_mirrors_casters",
+        source: "path.comp",
+        defines: &["ALPHA_TEST", "STOCHASTIC_ALPHA", "MIRRORS", "CASTERS"],
+        per_layout: true,
+        role: Role::Product,
+    },
     // The four above, lean: every feature but mirrors, glossy lobes and emissive triangles
     // compiled out (`prepare::Features::lean`; shaders/include/features.glsl), for scenes that
     // use no other. Lavapipe parses the SPIR-V before specialization drops dead code: on the

@@ -88,12 +88,22 @@ pub enum CacheOutcome {
     /// No cache (`--no-cache`, or no cache folder).
     Off,
     /// Mapped from this entry; seconds to map, check and read it.
-    Hit { entry: PathBuf, seconds: f64 },
+    Hit {
+        entry: PathBuf,
+        seconds: f64,
+    },
     /// Prepared now and stored in this entry (seconds to write it), or not stored (why).
-    Stored { entry: PathBuf, seconds: f64 },
-    NotStored { why: String },
+    Stored {
+        entry: PathBuf,
+        seconds: f64,
+    },
+    NotStored {
+        why: String,
+    },
     /// Prepared now; the entry is being written by [`Storing`].
-    Storing { entry: PathBuf },
+    Storing {
+        entry: PathBuf,
+    },
 }
 
 /// An entry being written on a thread of its own while the render runs (a 10M-triangle scene's
@@ -269,8 +279,7 @@ struct Meta {
 }
 
 /// The arrays of an entry, in file order.
-const ARRAYS: [&str; 11] =
-    ["nodes", "triangles", "shading", "materials", "lights", "emitters", "uvs", "textures", "texels", "light picks", "tangents"];
+const ARRAYS: [&str; 11] = ["nodes", "triangles", "shading", "materials", "lights", "emitters", "uvs", "textures", "texels", "light picks", "tangents"];
 
 fn array_bytes<'a>(a: &SceneArrays<'a>) -> [&'a [u8]; 11] {
     use bytemuck::cast_slice as b;
@@ -353,18 +362,12 @@ impl CachedScene {
             total_weight: self.meta.total_weight,
         })
     }
-
 }
 
 /// Writes `prepared` as the entry `entry`: to a temporary file beside it, renamed into place.
 fn store(cache: &Cache, entry: &Path, prepared: &PreparedScene, summary: &SceneSummary) -> Result<()> {
     std::fs::create_dir_all(&cache.dir).with_context(|| format!("creating {}", cache.dir.display()))?;
-    let inputs = summary
-        .stats
-        .inputs
-        .iter()
-        .map(|p| Ok((p.clone(), super::content_hash(p)?)))
-        .collect::<Result<Vec<_>>>()?;
+    let inputs = summary.stats.inputs.iter().map(|p| Ok((p.clone(), super::content_hash(p)?))).collect::<Result<Vec<_>>>()?;
     let a = prepared.arrays();
     let arrays = array_bytes(&a);
     let mut meta = Meta {

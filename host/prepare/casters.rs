@@ -74,7 +74,14 @@ fn cast_of(m: &GpuMaterial) -> Option<Cast> {
 /// [`MAX_SCENE_SHARE`] of the scene's bounding radius (`SceneInfo::radius`) are left out.
 /// `materials` as uploaded (planar mirrors flagged). The spot is aimed at the emissive
 /// triangles' bounding sphere; without emissive triangles only the whole-cone share is drawn.
-pub fn caustic_casters(triangles: &[GpuTriangle], shading: &[GpuShading], materials: &[GpuMaterial], emitters: &[GpuEmitter], lights_present: bool, scene_radius: f32) -> Vec<GpuCaster> {
+pub fn caustic_casters(
+    triangles: &[GpuTriangle],
+    shading: &[GpuShading],
+    materials: &[GpuMaterial],
+    emitters: &[GpuEmitter],
+    lights_present: bool,
+    scene_radius: f32,
+) -> Vec<GpuCaster> {
     if !lights_present && emitters.is_empty() {
         return Vec::new();
     }
@@ -147,16 +154,7 @@ pub fn caustic_casters(triangles: &[GpuTriangle], shading: &[GpuShading], materi
                 (Cast::Reflect(s), Some((c, r, _)), true) => (c, r, s),
                 _ => (Vec3::ZERO, 0.0, -1.0),
             };
-            Some(GpuCaster {
-                center: center.into(),
-                radius,
-                target: target.into(),
-                target_radius,
-                spot_spread: spread,
-                _pad0: 0,
-                _pad1: 0,
-                _pad2: 0,
-            })
+            Some(GpuCaster { center: center.into(), radius, target: target.into(), target_radius, spot_spread: spread, _pad0: 0, _pad1: 0, _pad2: 0 })
         })
         .collect()
 }
@@ -178,7 +176,15 @@ mod tests {
     use super::*;
 
     fn material(flags: u32, ks: f32, ns: f32) -> GpuMaterial {
-        GpuMaterial { flags, specular: [ks; 3], shininess: ns, diffuse_texture: TEXTURE_NONE, alpha_texture: TEXTURE_NONE, emission_texture: TEXTURE_NONE, ..bytemuck::Zeroable::zeroed() }
+        GpuMaterial {
+            flags,
+            specular: [ks; 3],
+            shininess: ns,
+            diffuse_texture: TEXTURE_NONE,
+            alpha_texture: TEXTURE_NONE,
+            emission_texture: TEXTURE_NONE,
+            ..bytemuck::Zeroable::zeroed()
+        }
     }
 
     fn shading(material: u32) -> GpuShading {

@@ -67,7 +67,11 @@ fn find_interval(cdf: &[f32], u: f32) -> usize {
     let (mut lo, mut hi) = (0usize, n);
     while hi - lo > 1 {
         let mid = lo + (hi - lo) / 2;
-        if cdf[mid] <= u { lo = mid } else { hi = mid }
+        if cdf[mid] <= u {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     lo
 }
@@ -76,11 +80,7 @@ impl EnvLight {
     pub fn new(map: &EnvMap, scale: f32, rotation_deg: f32) -> Self {
         let (w, h) = (map.width as usize, map.height as usize);
         let rows = h - 1;
-        let texels = map
-            .texels
-            .iter()
-            .map(|t| [(t[0] * scale).to_bits(), (t[1] * scale).to_bits(), (t[2] * scale).to_bits(), 0])
-            .collect();
+        let texels = map.texels.iter().map(|t| [(t[0] * scale).to_bits(), (t[1] * scale).to_bits(), (t[2] * scale).to_bits(), 0]).collect();
         let lum: Vec<f64> = map.texels.iter().map(|t| luminance(Vec3::from(*t))).collect();
         let mut row_weights = Vec::with_capacity(rows);
         let mut conditional = Vec::with_capacity(rows * (w + 1));
@@ -102,8 +102,7 @@ impl EnvLight {
             let mut row_rgb = glam::DVec3::ZERO;
             for i in 0..w {
                 let i1 = (i + 1) % w;
-                let c = map.texel(i as u32, j as u32) + map.texel(i1 as u32, j as u32)
-                    + map.texel(i as u32, j as u32 + 1) + map.texel(i1 as u32, j as u32 + 1);
+                let c = map.texel(i as u32, j as u32) + map.texel(i1 as u32, j as u32) + map.texel(i as u32, j as u32 + 1) + map.texel(i1 as u32, j as u32 + 1);
                 row_rgb += 0.25 * c.as_dvec3();
             }
             mean_rgb += row_rgb / w as f64 * solid_angle;

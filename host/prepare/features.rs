@@ -28,9 +28,8 @@ pub const NORMAL_MAP: Feature = Feature { name: "normal maps", spec_id: SPEC_HAS
 
 pub const CONE: Feature = Feature { name: "cone lights", spec_id: SPEC_HAS_CONE };
 
-pub const ALL: [Feature; 14] = [
-    TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP, METALLIC_ROUGHNESS, NORMAL_MAP, CONE,
-];
+pub const ALL: [Feature; 14] =
+    [TEXTURES, ALPHA, DIELECTRIC, MIRROR, GLOSSY, EMITTERS, POINT, DIRECTIONAL, SPOT, SKY, ENVMAP, METALLIC_ROUGHNESS, NORMAL_MAP, CONE];
 
 /// The features the lean path tracer keeps as specialization constants; it compiles the rest
 /// out (shaders/include/features.glsl, `LEAN`).
@@ -58,11 +57,8 @@ impl Features {
                 *u = true;
             }
         }
-        let mats: Vec<&Material> =
-            scene.materials.iter().zip(&used).filter(|(_, &u)| u).map(|(m, _)| m).collect();
-        let named = |pred: &dyn Fn(&Material) -> bool| -> Vec<String> {
-            mats.iter().filter(|m| pred(m)).map(|m| format!("'{}'", m.name)).collect()
-        };
+        let mats: Vec<&Material> = scene.materials.iter().zip(&used).filter(|(_, &u)| u).map(|(m, _)| m).collect();
+        let named = |pred: &dyn Fn(&Material) -> bool| -> Vec<String> { mats.iter().filter(|m| pred(m)).map(|m| format!("'{}'", m.name)).collect() };
         let why = |names: Vec<String>, what: &str| -> (bool, String) {
             if names.is_empty() {
                 (false, format!("no {what}"))
@@ -74,7 +70,11 @@ impl Features {
         };
         let count_lights = |pred: &dyn Fn(&Light) -> bool, what: &str| -> (bool, String) {
             let n = scene.lights.iter().filter(|l| pred(l)).count();
-            if n == 0 { (false, format!("no {what}")) } else { (true, format!("{n} {what}")) }
+            if n == 0 {
+                (false, format!("no {what}"))
+            } else {
+                (true, format!("{n} {what}"))
+            }
         };
         let entries = vec![
             (TEXTURES, why(named(&|m| m.has_textures()), "materials with a texture")),
@@ -136,7 +136,13 @@ impl Features {
     /// A short name of the variant: the features that are on, or "minimal".
     pub fn variant_name(&self) -> String {
         let on: Vec<&str> = self.entries.iter().filter(|e| e.1).map(|e| e.0.name).collect();
-        if on.len() == ALL.len() { "all features".into() } else if on.is_empty() { "minimal".into() } else { on.join(" + ") }
+        if on.len() == ALL.len() {
+            "all features".into()
+        } else if on.is_empty() {
+            "minimal".into()
+        } else {
+            on.join(" + ")
+        }
     }
 
     /// One line per feature: on/off and why, for `--verbose`.
@@ -159,9 +165,7 @@ fn sky_use(sky: &Sky) -> (bool, String) {
 /// Whether the sky is an environment map (looked up and, in the path tracer, sampled as a light).
 fn envmap_use(sky: &Sky) -> (bool, String) {
     match sky {
-        Sky::Environment { scale, rotation_deg } if *scale > 0.0 => {
-            (true, format!("--envmap, scale {scale}, turned {rotation_deg} degrees"))
-        }
+        Sky::Environment { scale, rotation_deg } if *scale > 0.0 => (true, format!("--envmap, scale {scale}, turned {rotation_deg} degrees")),
         Sky::Environment { .. } => (false, "environment map of scale 0".to_string()),
         _ => (false, "no environment map".to_string()),
     }

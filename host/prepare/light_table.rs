@@ -88,9 +88,8 @@ fn alias_table(weights: &[f64], total: f64) -> Vec<GpuLightPick> {
     }
     // Scaled so that the average entry is 1.
     let mut scaled: Vec<f64> = weights.iter().map(|w| w * n as f64 / total).collect();
-    let mut picks: Vec<GpuLightPick> = (0..n)
-        .map(|i| GpuLightPick { pmf: (weights[i] / total) as f32, alias: i as u32, threshold: 1.0, alias_pmf: 0.0 })
-        .collect();
+    let mut picks: Vec<GpuLightPick> =
+        (0..n).map(|i| GpuLightPick { pmf: (weights[i] / total) as f32, alias: i as u32, threshold: 1.0, alias_pmf: 0.0 }).collect();
     let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| scaled[i] < 1.0);
     while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
         small.pop();
@@ -158,14 +157,7 @@ mod tests {
     #[test]
     fn cone_power_is_its_falloff_integrated_over_the_sphere() {
         let (cos_inner, cos_outer) = (0.9f32, 0.6f32);
-        let light = GpuLight {
-            position: [0.0; 3],
-            kind: LIGHT_CONE,
-            direction: [0.0, 0.0, -1.0],
-            radius: cos_inner,
-            intensity: [2.0; 3],
-            cos_outer,
-        };
+        let light = GpuLight { position: [0.0; 3], kind: LIGHT_CONE, direction: [0.0, 0.0, -1.0], radius: cos_inner, intensity: [2.0; 3], cos_outer };
         // Midpoint rule over cos in [-1, 1]: power = 2 pi I integral f(c) dc.
         let n = 200_000;
         let integral: f64 = (0..n)

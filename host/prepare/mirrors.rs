@@ -58,8 +58,14 @@ pub fn planar_mirrors(triangles: &[GpuTriangle], shading: &[GpuShading], materia
             let m = material_of(t)?;
             let mut key = [t.v0, t.v1, t.v2].map(|v| v.map(f32::to_bits));
             key.sort();
-            (qualifies.get(m).copied().unwrap_or(false) && seen.insert(key))
-                .then_some(GpuMirror { v0: t.v0, material: m as u32, v1: t.v1, _pad0: 0, v2: t.v2, _pad1: 0 })
+            (qualifies.get(m).copied().unwrap_or(false) && seen.insert(key)).then_some(GpuMirror {
+                v0: t.v0,
+                material: m as u32,
+                v1: t.v1,
+                _pad0: 0,
+                v2: t.v2,
+                _pad1: 0,
+            })
         })
         .collect::<Vec<GpuMirror>>();
     (flagged, mirrors)
@@ -140,7 +146,14 @@ mod tests {
     use super::*;
 
     fn material(flags: u32) -> GpuMaterial {
-        GpuMaterial { flags, specular: [0.9; 3], diffuse_texture: TEXTURE_NONE, alpha_texture: TEXTURE_NONE, emission_texture: TEXTURE_NONE, ..bytemuck::Zeroable::zeroed() }
+        GpuMaterial {
+            flags,
+            specular: [0.9; 3],
+            diffuse_texture: TEXTURE_NONE,
+            alpha_texture: TEXTURE_NONE,
+            emission_texture: TEXTURE_NONE,
+            ..bytemuck::Zeroable::zeroed()
+        }
     }
 
     fn triangle(prim: u32, z: f32) -> GpuTriangle {
@@ -160,15 +173,7 @@ mod tests {
         // Materials: 0 a flat mirror (two triangles, one facing down), 1 a mirror with one
         // smooth-shaded triangle, 2 a textured mirror, 3 Lambert, 4 a dielectric.
         let materials = [material(MATERIAL_MIRROR), material(MATERIAL_MIRROR), textured, material(0), material(MATERIAL_MIRROR | MATERIAL_DIELECTRIC)];
-        let shading = [
-            shading(0, up),
-            shading(0, [[0.0, 0.0, -1.0]; 3]),
-            shading(1, up),
-            shading(1, tilted),
-            shading(2, up),
-            shading(3, up),
-            shading(4, up),
-        ];
+        let shading = [shading(0, up), shading(0, [[0.0, 0.0, -1.0]; 3]), shading(1, up), shading(1, tilted), shading(2, up), shading(3, up), shading(4, up)];
         let triangles: Vec<GpuTriangle> = (0..shading.len() as u32).map(|p| triangle(p, p as f32)).collect();
         let (flagged, mirrors) = planar_mirrors(&triangles, &shading, &materials);
         let planar: Vec<bool> = flagged.iter().map(|m| m.flags & MATERIAL_PLANAR_MIRROR != 0).collect();
@@ -211,7 +216,8 @@ mod tests {
         assert_eq!(by_plane(&facets[..MAX_MIRROR_PLANES]).1.len(), MAX_MIRROR_PLANES);
         assert!(by_plane(&facets).0.is_empty() && by_plane(&facets).1.is_empty());
         // A finely meshed flat mirror: none either.
-        let mesh: Vec<GpuMirror> = (0..=MAX_PLANE_TRIANGLES).map(|k| mirror([[k as f32, 0.0, 1.0], [k as f32 + 1.0, 0.0, 1.0], [k as f32, 1.0, 1.0]], 0)).collect();
+        let mesh: Vec<GpuMirror> =
+            (0..=MAX_PLANE_TRIANGLES).map(|k| mirror([[k as f32, 0.0, 1.0], [k as f32 + 1.0, 0.0, 1.0], [k as f32, 1.0, 1.0]], 0)).collect();
         assert_eq!(by_plane(&mesh[..MAX_PLANE_TRIANGLES]).1.len(), 1);
         assert!(by_plane(&mesh).1.is_empty());
     }

@@ -4,10 +4,10 @@
 //! it on the device. Integrators and batch queries take only the uploaded result.
 
 pub mod cache;
+pub mod casters;
 pub mod envmap;
 pub mod features;
 pub mod light_table;
-pub mod casters;
 pub mod mirrors;
 pub mod scene_buffers;
 pub mod texture_atlas;

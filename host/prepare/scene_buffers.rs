@@ -69,24 +69,13 @@ pub fn gpu_material(m: &Material) -> GpuMaterial {
 pub fn gpu_light(l: &Light) -> GpuLight {
     let (kind, position, direction, intensity, radius, cos_outer) = match *l {
         Light::Point { position, intensity } => (LIGHT_POINT, position, glam::Vec3::ZERO, intensity, 0.0, 0.0),
-        Light::Directional { direction, intensity } => {
-            (LIGHT_DIRECTIONAL, glam::Vec3::ZERO, direction.normalize_or_zero(), intensity, 0.0, 0.0)
-        }
-        Light::Spot { position, direction, intensity, radius } => {
-            (LIGHT_SPOT, position, direction.normalize_or_zero(), intensity, radius, 0.0)
-        }
+        Light::Directional { direction, intensity } => (LIGHT_DIRECTIONAL, glam::Vec3::ZERO, direction.normalize_or_zero(), intensity, 0.0, 0.0),
+        Light::Spot { position, direction, intensity, radius } => (LIGHT_SPOT, position, direction.normalize_or_zero(), intensity, radius, 0.0),
         Light::Cone { position, direction, intensity, cos_inner, cos_outer } => {
             (LIGHT_CONE, position, direction.normalize_or_zero(), intensity, cos_inner, cos_outer)
         }
     };
-    GpuLight {
-        position: position.to_array(),
-        kind,
-        direction: direction.to_array(),
-        radius,
-        intensity: intensity.to_array(),
-        cos_outer,
-    }
+    GpuLight { position: position.to_array(), kind, direction: direction.to_array(), radius, intensity: intensity.to_array(), cos_outer }
 }
 
 impl SceneBuffers {
@@ -96,14 +85,7 @@ impl SceneBuffers {
             .iter()
             .map(|t| {
                 let n = t.n.unwrap_or([t.cross().normalize_or_zero(); 3]);
-                GpuShading {
-                    n0: n[0].to_array(),
-                    material: t.material,
-                    n1: n[1].to_array(),
-                    _pad0: 0,
-                    n2: n[2].to_array(),
-                    _pad1: 0,
-                }
+                GpuShading { n0: n[0].to_array(), material: t.material, n1: n[1].to_array(), _pad0: 0, n2: n[2].to_array(), _pad1: 0 }
             })
             .collect();
         let emitters = scene

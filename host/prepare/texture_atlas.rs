@@ -34,8 +34,7 @@ impl TextureAtlas {
             if total <= budget {
                 break;
             }
-            let Some((i, _)) = scaled.iter().enumerate().filter(|(_, t)| t.width * t.height > 1).max_by_key(|(_, t)| t.bytes())
-            else {
+            let Some((i, _)) = scaled.iter().enumerate().filter(|(_, t)| t.width * t.height > 1).max_by_key(|(_, t)| t.bytes()) else {
                 break;
             };
             scaled[i] = std::borrow::Cow::Owned(scaled[i].downsampled());

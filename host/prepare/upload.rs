@@ -182,7 +182,14 @@ impl<'a> GpuScene<'a> {
     /// it to the light table by its power. If the scene file's only light is the default one
     /// the loader added (`LoadStats::default_light`), the map replaces it: `drop_default_light`
     /// takes it out of light sampling and out of the lights the Whitted integrator loops over.
-    pub fn set_environment(&mut self, ctx: &'a Context, env: &super::EnvLight, picks: &[crate::gpu_abi::GpuLightPick], total_weight: f64, drop_default_light: bool) -> Result<()> {
+    pub fn set_environment(
+        &mut self,
+        ctx: &'a Context,
+        env: &super::EnvLight,
+        picks: &[crate::gpu_abi::GpuLightPick],
+        total_weight: f64,
+        drop_default_light: bool,
+    ) -> Result<()> {
         use TexelFormat::{R32Uint, Rgba32Uint};
         let mut dropped = Vec::new();
         if drop_default_light && self.light_count > 0 {

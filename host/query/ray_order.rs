@@ -299,7 +299,8 @@ mod tests {
         assert!(!looks_coherent(&random_rays(20000)), "sampled: random rays");
         // The sample sees what the whole batch shows: camera rays with every other one replaced
         // by a random ray are not coherent.
-        let mixed: Vec<GpuRay> = camera_rays(256, 128).into_iter().zip(random_rays(256 * 128)).enumerate().map(|(i, (c, r))| if i % 2 == 0 { c } else { r }).collect();
+        let mixed: Vec<GpuRay> =
+            camera_rays(256, 128).into_iter().zip(random_rays(256 * 128)).enumerate().map(|(i, (c, r))| if i % 2 == 0 { c } else { r }).collect();
         assert!(!is_coherent(&sort_keys(&mixed)) && !looks_coherent(&mixed));
         assert!(plan(&camera_rays(64, 64), RayOrder::Auto).is_none());
         assert!(plan(&random_rays(1000), RayOrder::Auto).is_some());
@@ -314,9 +315,7 @@ mod tests {
         let rays = random_rays(50000);
         let keys = sort_keys(&rays);
         let sorted: Vec<u32> = sorted_order(&keys).iter().map(|&i| keys[i as usize]).collect();
-        let same_direction = |k: &[u32]| {
-            k.windows(2).filter(|w| w[0] >> (3 * ORIGIN_BITS) == w[1] >> (3 * ORIGIN_BITS)).count() as f64 / (k.len() - 1) as f64
-        };
+        let same_direction = |k: &[u32]| k.windows(2).filter(|w| w[0] >> (3 * ORIGIN_BITS) == w[1] >> (3 * ORIGIN_BITS)).count() as f64 / (k.len() - 1) as f64;
         assert!(same_direction(&keys) < 0.01, "{}", same_direction(&keys));
         assert!(same_direction(&sorted) > 0.9, "{}", same_direction(&sorted));
     }

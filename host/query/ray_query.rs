@@ -41,9 +41,8 @@ impl<'a> Slot<'a> {
         let (ray_bytes, hit_bytes) = ((RAYS_PER_BATCH * size_of::<GpuRay>()) as u64, (RAYS_PER_BATCH * size_of::<GpuHit>()) as u64);
         let rays = Buffer::new(ctx, "rays", ray_bytes, storage, MemoryLocation::Device)?;
         let hits = Buffer::new(ctx, "hits", hit_bytes, storage, MemoryLocation::Device)?;
-        let rays_up = (!rays.is_mapped())
-            .then(|| Buffer::new(ctx, "rays (upload)", ray_bytes, vk::BufferUsageFlags::empty(), MemoryLocation::Upload))
-            .transpose()?;
+        let rays_up =
+            (!rays.is_mapped()).then(|| Buffer::new(ctx, "rays (upload)", ray_bytes, vk::BufferUsageFlags::empty(), MemoryLocation::Upload)).transpose()?;
         let hits_down = (!hits.reads_in_place())
             .then(|| Buffer::new(ctx, "hits (read-back)", hit_bytes, vk::BufferUsageFlags::empty(), MemoryLocation::Readback))
             .transpose()?;

@@ -40,11 +40,7 @@ pub fn push_triangle(scene: &mut Scene, mut t: Triangle) -> bool {
 pub fn finish_scene(scene: &mut Scene, file: &Path, cameras: Vec<Camera>) -> anyhow::Result<()> {
     if scene.triangles.is_empty() {
         let dropped = scene.stats.dropped_degenerate;
-        let msg = if dropped > 0 {
-            format!("the scene has no triangles (all {dropped} were degenerate)")
-        } else {
-            "the scene has no triangles".to_string()
-        };
+        let msg = if dropped > 0 { format!("the scene has no triangles (all {dropped} were degenerate)") } else { "the scene has no triangles".to_string() };
         return Err(InputError::new(file, None, msg).into());
     }
     scene.stats.interior = cameras.is_empty() && looks_like_a_room(scene);

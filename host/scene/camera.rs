@@ -76,15 +76,7 @@ impl Camera {
             anyhow::bail!("focus distance {focus_distance} is not a finite number >= 0");
         }
         let focus_distance = if focus_distance > 0.0 { focus_distance } else { (self.target - self.eye).length() };
-        Ok(CameraFrame {
-            origin: self.eye,
-            forward,
-            right,
-            up,
-            tan_half_fov_y: (self.fov_y_deg.to_radians() * 0.5).tan(),
-            aperture_radius,
-            focus_distance,
-        })
+        Ok(CameraFrame { origin: self.eye, forward, right, up, tan_half_fov_y: (self.fov_y_deg.to_radians() * 0.5).tan(), aperture_radius, focus_distance })
     }
 
     /// A camera looking at `bounds` from the front (+z), far enough back to see all of it.
@@ -133,10 +125,6 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
         return Vec2::ZERO;
     }
     let quarter_pi = std::f32::consts::FRAC_PI_4;
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, quarter_pi * (o.y / o.x))
-    } else {
-        (o.y, 2.0 * quarter_pi - quarter_pi * (o.x / o.y))
-    };
+    let (r, theta) = if o.x.abs() > o.y.abs() { (o.x, quarter_pi * (o.y / o.x)) } else { (o.y, 2.0 * quarter_pi - quarter_pi * (o.x / o.y)) };
     r * Vec2::new(theta.cos(), theta.sin())
 }

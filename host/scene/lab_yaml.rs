@@ -17,24 +17,14 @@ use yaml_rust2::yaml::Hash;
 use yaml_rust2::{Yaml, YamlLoader};
 
 use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT};
+use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
 use super::obj::load_obj_meshes;
 use super::{Camera, Light, Material, Scene, Triangle};
-use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
 use crate::error::InputError;
 
-const TOP_KEYS: &[&str] = &[
-    "Reflection",
-    "AmbientIntensity",
-    "Skyboxes",
-    "Cameras",
-    "Lights",
-    "Materials",
-    "Models",
-    "ComplexModels",
-];
+const TOP_KEYS: &[&str] = &["Reflection", "AmbientIntensity", "Skyboxes", "Cameras", "Lights", "Materials", "Models", "ComplexModels"];
 const CAMERA_KEYS: &[&str] = &["Eye", "Target", "Up", "Fovy", "ZNear", "ZFar"];
-const MATERIAL_KEYS: &[&str] =
-    &["Name", "Blend", "Diffuse", "DiffuseMap", "Specular", "Shininess", "Emission"];
+const MATERIAL_KEYS: &[&str] = &["Name", "Blend", "Diffuse", "DiffuseMap", "Specular", "Shininess", "Emission"];
 const MODEL_KEYS: &[&str] = &["Mesh", "Material", "Scale", "Translation"];
 const COMPLEX_MODEL_KEYS: &[&str] = &["Mesh"];
 
@@ -47,18 +37,9 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
     })?;
     let docs = YamlLoader::load_from_str(text).map_err(|e| {
         let m = e.marker();
-        InputError::new(
-            path,
-            Some(format!("line {}, column {}", m.line(), m.col() + 1)),
-            e.info().to_string(),
-        )
+        InputError::new(path, Some(format!("line {}, column {}", m.line(), m.col() + 1)), e.info().to_string())
     })?;
-    let mut lab = Lab {
-        file: path,
-        dir: path.parent().unwrap_or(Path::new("")).to_path_buf(),
-        scene: Scene::default(),
-        meshes: HashMap::new(),
-    };
+    let mut lab = Lab { file: path, dir: path.parent().unwrap_or(Path::new("")).to_path_buf(), scene: Scene::default(), meshes: HashMap::new() };
     lab.scene.stats.read_input(path);
     if docs.len() > 1 {
         lab.warn_at(None, "only the first YAML document is read");
@@ -183,14 +164,11 @@ impl Lab<'_> {
     }
 
     fn hash<'y>(&self, y: &'y Yaml, key: &str) -> anyhow::Result<&'y Hash> {
-        y.as_hash()
-            .ok_or_else(|| self.err(key, format!("expected a mapping (Key: value), found {}", describe(y))))
+        y.as_hash().ok_or_else(|| self.err(key, format!("expected a mapping (Key: value), found {}", describe(y))))
     }
 
     fn list<'y>(&self, y: &'y Yaml, key: &str) -> anyhow::Result<&'y [Yaml]> {
-        y.as_vec()
-            .map(Vec::as_slice)
-            .ok_or_else(|| self.err(key, format!("expected a list, found {}", describe(y))))
+        y.as_vec().map(Vec::as_slice).ok_or_else(|| self.err(key, format!("expected a list, found {}", describe(y))))
     }
 
     fn string<'y>(&self, y: &'y Yaml, key: &str) -> anyhow::Result<&'y str> {
@@ -216,11 +194,7 @@ impl Lab<'_> {
         let wanted = lengths.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(" or ");
         let items = match y.as_vec() {
             Some(v) if lengths.contains(&v.len()) => v,
-            _ => {
-                return Err(
-                    self.err(key, format!("expected a list of {wanted} numbers, found {}", describe(y)))
-                )
-            }
+            _ => return Err(self.err(key, format!("expected a list of {wanted} numbers, found {}", describe(y)))),
         };
         items.iter().enumerate().map(|(i, v)| self.number(v, &format!("{key}[{i}]"))).collect()
     }
@@ -362,18 +336,11 @@ impl Lab<'_> {
                 known.sort_unstable();
                 self.err(&mat_key, format!("no material named '{mat_name}' (known: {})", known.join(", ")))
             })?;
-            let scale = get(h, "Scale")
-                .map(|s| self.vec3(s, &child(&key, "Scale")))
-                .transpose()?
-                .unwrap_or(Vec3::ONE);
-            let shift = get(h, "Translation")
-                .map(|t| self.vec3(t, &child(&key, "Translation")))
-                .transpose()?
-                .unwrap_or(Vec3::ZERO);
+            let scale = get(h, "Scale").map(|s| self.vec3(s, &child(&key, "Scale"))).transpose()?.unwrap_or(Vec3::ONE);
+            let shift = get(h, "Translation").map(|t| self.vec3(t, &child(&key, "Translation"))).transpose()?.unwrap_or(Vec3::ZERO);
             let cache_key = (mesh_path.clone(), material);
             if !self.meshes.contains_key(&cache_key) {
-                let mesh = load_obj_meshes(&mesh_path, Some(material))
-                    .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
+                let mesh = load_obj_meshes(&mesh_path, Some(material)).with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
                 for w in mesh.warnings {
                     self.scene.stats.warn(w);
                 }
@@ -396,8 +363,7 @@ impl Lab<'_> {
             self.check_keys(h, &key, COMPLEX_MODEL_KEYS);
             let mesh_key = child(&key, "Mesh");
             let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
-            let mesh = load_obj_meshes(&mesh_path, None)
-                .with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
+            let mesh = load_obj_meshes(&mesh_path, None).with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
             for w in mesh.warnings {
                 self.scene.stats.warn(w);
             }
@@ -406,8 +372,7 @@ impl Lab<'_> {
             }
             let offset = self.scene.materials.len() as u32;
             self.scene.materials.extend(mesh.materials);
-            let triangles =
-                mesh.triangles.into_iter().map(|t| Triangle { material: t.material + offset, ..t });
+            let triangles = mesh.triangles.into_iter().map(|t| Triangle { material: t.material + offset, ..t });
             push_triangles(&mut self.scene, triangles);
         }
         Ok(())
@@ -418,9 +383,7 @@ impl Lab<'_> {
             let key = format!("Lights[{i}]");
             let h = self.hash(l, &key)?;
             let kind = self.string(self.required(h, &key, "Type")?, &child(&key, "Type"))?;
-            let field = |name: &str| -> anyhow::Result<Vec3> {
-                self.vec3(self.required(h, &key, name)?, &child(&key, name))
-            };
+            let field = |name: &str| -> anyhow::Result<Vec3> { self.vec3(self.required(h, &key, name)?, &child(&key, name)) };
             let direction = |name: &str| -> anyhow::Result<Vec3> {
                 let d = field(name)?.normalize_or_zero();
                 if d == Vec3::ZERO {
@@ -434,26 +397,15 @@ impl Lab<'_> {
                     (&["Type", "Position", "Intensity"], Some(light))
                 }
                 "Directional" => {
-                    let light = Light::Directional {
-                        direction: direction("Direction")?,
-                        intensity: field("Intensity")?,
-                    };
+                    let light = Light::Directional { direction: direction("Direction")?, intensity: field("Intensity")? };
                     (&["Type", "Direction", "Intensity"], Some(light))
                 }
                 "Spot" => {
                     let radius = self.number(self.required(h, &key, "Length")?, &child(&key, "Length"))?;
                     if radius <= 0.0 {
-                        return Err(self.err(
-                            &child(&key, "Length"),
-                            format!("the light's radius must be positive, not {radius}"),
-                        ));
+                        return Err(self.err(&child(&key, "Length"), format!("the light's radius must be positive, not {radius}")));
                     }
-                    let light = Light::Spot {
-                        position: field("Position")?,
-                        direction: direction("Direction")?,
-                        intensity: field("Intensity")?,
-                        radius,
-                    };
+                    let light = Light::Spot { position: field("Position")?, direction: direction("Direction")?, intensity: field("Intensity")?, radius };
                     (&["Type", "Position", "Direction", "Intensity", "Length"], Some(light))
                 }
                 "Area" => {
@@ -463,8 +415,7 @@ impl Lab<'_> {
                     (&["Type", "p0", "p1", "p2", "Direction", "Intensity"], None)
                 }
                 other => {
-                    let msg =
-                        format!("unknown light type '{other}' (expected Point, Directional, Spot or Area)");
+                    let msg = format!("unknown light type '{other}' (expected Point, Directional, Spot or Area)");
                     return Err(self.err(&child(&key, "Type"), msg));
                 }
             };
@@ -485,12 +436,7 @@ impl Lab<'_> {
         }
         let p = if along < 0.0 { [p0, p2, p1] } else { [p0, p1, p2] };
         let material = self.scene.materials.len() as u32;
-        self.scene.materials.push(Material {
-            name: format!("{key} (Area light)"),
-            diffuse: Vec3::ZERO,
-            emission: intensity,
-            ..Material::default()
-        });
+        self.scene.materials.push(Material { name: format!("{key} (Area light)"), diffuse: Vec3::ZERO, emission: intensity, ..Material::default() });
         let before = self.scene.stats.dropped_degenerate;
         push_triangles(&mut self.scene, [Triangle { p, n: None, uv: None, material }]);
         if self.scene.stats.dropped_degenerate > before {

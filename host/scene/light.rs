@@ -31,13 +31,30 @@ use glam::Vec3;
 /// All are picked for light sampling in proportion to their power (`prepare::light_table`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
-    Point { position: Vec3, intensity: Vec3 },
-    Directional { direction: Vec3, intensity: Vec3 },
-    Spot { position: Vec3, direction: Vec3, intensity: Vec3, radius: f32 },
+    Point {
+        position: Vec3,
+        intensity: Vec3,
+    },
+    Directional {
+        direction: Vec3,
+        intensity: Vec3,
+    },
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        intensity: Vec3,
+        radius: f32,
+    },
     /// A glTF spot light: a point light limited to a cone around `direction` (normalised, the
     /// way it shines), full inside the inner angle (cosine `cos_inner`), dark outside the outer
     /// one (`cos_outer` < `cos_inner`).
-    Cone { position: Vec3, direction: Vec3, intensity: Vec3, cos_inner: f32, cos_outer: f32 },
+    Cone {
+        position: Vec3,
+        direction: Vec3,
+        intensity: Vec3,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
 }
 
 impl Light {

@@ -24,9 +24,7 @@ pub fn load_material_textures(scene: &mut Scene, file: &Path, cache: &mut Textur
         }
         let diffuse = match &diffuse_map {
             Some(p) => {
-                let d = cache
-                    .get(&mut scene.textures, p, false)
-                    .with_context(|| format!("{}: texture of material '{name}'", file.display()))?;
+                let d = cache.get(&mut scene.textures, p, false).with_context(|| format!("{}: texture of material '{name}'", file.display()))?;
                 scene.stats.read_input(p);
                 Some(d)
             }
@@ -35,9 +33,7 @@ pub fn load_material_textures(scene: &mut Scene, file: &Path, cache: &mut Textur
         let mut alpha = None;
         if let Some(p) = &alpha_map {
             if p.is_file() {
-                let a = cache
-                    .get(&mut scene.textures, p, true)
-                    .with_context(|| format!("{}: alpha map of material '{name}'", file.display()))?;
+                let a = cache.get(&mut scene.textures, p, true).with_context(|| format!("{}: alpha map of material '{name}'", file.display()))?;
                 scene.stats.read_input(p);
                 alpha = Some(a);
             } else {
@@ -53,9 +49,7 @@ pub fn load_material_textures(scene: &mut Scene, file: &Path, cache: &mut Textur
         let normal = match scene.materials[i].normal_map.clone() {
             // Linear, not sRGB: texture.glsl decodes nothing when asked for linear texels.
             Some(p) => {
-                let n = cache
-                    .get(&mut scene.textures, &p, false)
-                    .with_context(|| format!("{}: normal map of material '{name}'", file.display()))?;
+                let n = cache.get(&mut scene.textures, &p, false).with_context(|| format!("{}: normal map of material '{name}'", file.display()))?;
                 scene.stats.read_input(&p);
                 Some(n)
             }

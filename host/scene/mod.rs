@@ -163,9 +163,7 @@ impl Scene {
 
     /// Indices of triangles whose material emits light.
     pub fn emissive_triangles(&self) -> Vec<u32> {
-        (0..self.triangles.len() as u32)
-            .filter(|&i| self.materials[self.triangles[i as usize].material as usize].is_emissive())
-            .collect()
+        (0..self.triangles.len() as u32).filter(|&i| self.materials[self.triangles[i as usize].material as usize].is_emissive()).collect()
     }
 }
 

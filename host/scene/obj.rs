@@ -13,9 +13,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT};
+use super::input_file::{read_bounded, MAX_DESCRIPTION_BYTES, MAX_GEOMETRY_BYTES};
 use super::obj_geometry::{self, finite, words, MaterialLine, NO_USEMTL};
 use super::{Material, Scene, Triangle};
-use super::input_file::{read_bounded, MAX_DESCRIPTION_BYTES, MAX_GEOMETRY_BYTES};
 use crate::error::InputError;
 
 /// The triangles and materials of one OBJ file, before they join a [`Scene`].
@@ -173,8 +173,7 @@ fn read_mtl(path: &Path) -> anyhow::Result<Option<(MtlLib, Option<String>)>> {
     let bytes = read_bounded(path, MAX_DESCRIPTION_BYTES).map_err(|e| InputError::new(path, None, e))?;
     let (text, warning) = decode_text(path, &bytes)?;
     let clean = sanitize_mtl(path, &text)?;
-    let loaded = tobj::load_mtl_buf(&mut clean.as_bytes())
-        .map_err(|e| InputError::new(path, None, format!("MTL parser (tobj) failed: {e}")))?;
+    let loaded = tobj::load_mtl_buf(&mut clean.as_bytes()).map_err(|e| InputError::new(path, None, format!("MTL parser (tobj) failed: {e}")))?;
     Ok(Some((loaded, warning)))
 }
 
@@ -213,10 +212,7 @@ fn sanitize_mtl(path: &Path, text: &str) -> anyhow::Result<String> {
                 [x] if x.parse::<u8>().is_ok() => line_out!("illum {x}"),
                 _ => return Err(InputError::at_line(path, ln, "illum needs one integer 0-10").into()),
             },
-            Some(
-                k @ ("newmtl" | "map_Ka" | "map_Kd" | "map_Ks" | "map_Ns" | "map_d" | "map_bump" | "map_Bump"
-                | "bump"),
-            ) if rest.is_empty() => {
+            Some(k @ ("newmtl" | "map_Ka" | "map_Kd" | "map_Ks" | "map_Ns" | "map_d" | "map_bump" | "map_Bump" | "bump")) if rest.is_empty() => {
                 return Err(InputError::at_line(path, ln, format!("{k} needs a name")).into());
             }
             _ => {
@@ -241,8 +237,7 @@ fn convert_material(m: &tobj::Material, dir: &Path) -> Material {
     let v3 = |c: Option<[f32; 3]>, default: Vec3| c.map_or(default, Vec3::from);
     // tobj 4.0.5 reads Ke itself; older ones left it in `unknown_param`.
     let ke = m.emissive.or_else(|| {
-        let v: Vec<f32> =
-            m.unknown_param.get("Ke")?.split_whitespace().filter_map(|s| s.parse().ok()).collect();
+        let v: Vec<f32> = m.unknown_param.get("Ke")?.split_whitespace().filter_map(|s| s.parse().ok()).collect();
         Some([*v.first()?, *v.get(1)?, *v.get(2)?])
     });
     Material {

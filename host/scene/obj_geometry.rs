@@ -375,9 +375,7 @@ fn parse_corner(path: &Path, ln: usize, corner: &str, counts: [usize; 3]) -> Res
         if part.is_empty() {
             continue;
         }
-        let index: i64 = part
-            .parse()
-            .map_err(|_| InputError::at_line(path, ln, format!("{what} index '{part}' in '{corner}' is not an integer")))?;
+        let index: i64 = part.parse().map_err(|_| InputError::at_line(path, ln, format!("{what} index '{part}' in '{corner}' is not an integer")))?;
         let count = counts[k] as u64;
         let resolved = match index {
             i if i > 0 && i as u64 <= count => Some(i as u64 - 1),

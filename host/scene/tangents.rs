@@ -23,10 +23,7 @@ pub fn fill_missing_tangents(scene: &mut Scene) {
     }
     scene.tangents.resize(scene.triangles.len(), [Vec4::ZERO; 3]);
     let missing: Vec<usize> = (0..scene.triangles.len())
-        .filter(|&i| {
-            mapped.get(scene.triangles[i].material as usize).copied().unwrap_or(false)
-                && scene.tangents[i].iter().all(|t| t.truncate() == Vec3::ZERO)
-        })
+        .filter(|&i| mapped.get(scene.triangles[i].material as usize).copied().unwrap_or(false) && scene.tangents[i].iter().all(|t| t.truncate() == Vec3::ZERO))
         .collect();
     if missing.is_empty() {
         return;

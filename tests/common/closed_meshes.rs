@@ -6,8 +6,8 @@
 #![allow(dead_code)]
 
 use glam::Vec3;
-use vkrt::scene::Triangle;
 use std::collections::HashMap;
+use vkrt::scene::Triangle;
 
 /// An indexed mesh: positions and counter-clockwise index triples.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -21,10 +21,7 @@ impl IndexedMesh {
     /// Shared vertices stay bit-identical between the triangles that share them.
     pub fn to_triangles(&self, scale: f32, offset: Vec3, material: u32) -> Vec<Triangle> {
         let p: Vec<Vec3> = self.positions.iter().map(|&v| v * scale + offset).collect();
-        self.triangles
-            .iter()
-            .map(|t| Triangle { p: t.map(|i| p[i as usize]), n: None, uv: None, material })
-            .collect()
+        self.triangles.iter().map(|t| Triangle { p: t.map(|i| p[i as usize]), n: None, uv: None, material }).collect()
     }
 
     /// Midpoints of every edge, each once (for rays aimed exactly through edges).
@@ -47,18 +44,43 @@ impl IndexedMesh {
 pub fn icosphere(levels: u32) -> IndexedMesh {
     let t = (1.0 + 5f32.sqrt()) / 2.0;
     let mut positions: Vec<Vec3> = [
-        [-1.0, t, 0.0], [1.0, t, 0.0], [-1.0, -t, 0.0], [1.0, -t, 0.0],
-        [0.0, -1.0, t], [0.0, 1.0, t], [0.0, -1.0, -t], [0.0, 1.0, -t],
-        [t, 0.0, -1.0], [t, 0.0, 1.0], [-t, 0.0, -1.0], [-t, 0.0, 1.0],
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
     ]
     .iter()
     .map(|&p| Vec3::from(p).normalize())
     .collect();
     let mut triangles: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..levels {
         let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();

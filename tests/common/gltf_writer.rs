@@ -31,10 +31,8 @@ impl Default for Doc {
 
 impl Doc {
     pub fn new() -> Self {
-        let root = json::Root {
-            asset: json::Asset { version: "2.0".into(), generator: Some("vkrt tests".into()), ..Default::default() },
-            ..Default::default()
-        };
+        let root =
+            json::Root { asset: json::Asset { version: "2.0".into(), generator: Some("vkrt tests".into()), ..Default::default() }, ..Default::default() };
         Self { root, bin: Vec::new() }
     }
 
@@ -157,15 +155,7 @@ impl Doc {
         mode: json::mesh::Mode,
     ) -> json::mesh::Primitive {
         let attributes: BTreeMap<_, _> = attributes.iter().map(|(s, a)| (Valid(s.clone()), *a)).collect();
-        json::mesh::Primitive {
-            attributes,
-            extensions: None,
-            extras: Default::default(),
-            indices,
-            material,
-            mode: Valid(mode),
-            targets: None,
-        }
+        json::mesh::Primitive { attributes, extensions: None, extras: Default::default(), indices, material, mode: Valid(mode), targets: None }
     }
 
     pub fn mesh(&mut self, primitives: Vec<json::mesh::Primitive>) -> Index<json::Mesh> {

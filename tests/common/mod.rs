@@ -99,10 +99,7 @@ pub use vkrt::rng::Pcg32 as Pcg;
 
 /// Renders `scene` with the path tracer on a fresh context; fails the test on validation
 /// messages or NaN/Inf samples.
-pub fn render_path(
-    scene: &vkrt::scene::Scene,
-    settings: &vkrt::integrator::path::PathSettings,
-) -> vkrt::integrator::path::Accumulation {
+pub fn render_path(scene: &vkrt::scene::Scene, settings: &vkrt::integrator::path::PathSettings) -> vkrt::integrator::path::Accumulation {
     let ctx = gpu_context();
     let gpu = upload(&ctx, scene);
     render_path_on(&ctx, &gpu, settings)

@@ -37,9 +37,7 @@ pub fn quad(corner: Vec3, u: Vec3, v: Vec3, material: u32) -> [Triangle; 2] {
 pub fn scene_of(triangles: Vec<Triangle>) -> Scene {
     let mut scene = Scene { triangles, materials: vec![Material::default()], ..Scene::default() };
     scene.camera = Camera::framing(&scene.bounds());
-    scene
-        .lights
-        .push(Light::Directional { direction: Vec3::new(0.0, 1.0, 1.0).normalize(), intensity: Vec3::ONE });
+    scene.lights.push(Light::Directional { direction: Vec3::new(0.0, 1.0, 1.0).normalize(), intensity: Vec3::ONE });
     scene.ambient = Vec3::splat(0.05);
     scene
 }
@@ -51,10 +49,7 @@ pub fn scene_of(triangles: Vec<Triangle>) -> Scene {
 pub fn sphere(center: Vec3, radius: f32, level: u32, material: u32, inward: bool) -> Vec<Triangle> {
     let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
     // Counter-clockwise seen from outside.
-    let mut faces: Vec<[Vec3; 3]> = vec![
-        [x, y, z], [y, -x, z], [-x, -y, z], [-y, x, z],
-        [y, x, -z], [-x, y, -z], [-y, -x, -z], [x, -y, -z],
-    ];
+    let mut faces: Vec<[Vec3; 3]> = vec![[x, y, z], [y, -x, z], [-x, -y, z], [-y, x, z], [y, x, -z], [-x, y, -z], [-y, -x, -z], [x, -y, -z]];
     for _ in 0..level {
         faces = faces
             .iter()

@@ -73,16 +73,10 @@ struct Bin {
 }
 
 impl Bin {
-    const EMPTY: Bin = Bin {
-        bounds: SimdAabb::EMPTY,
-        count: 0,
-    };
+    const EMPTY: Bin = Bin { bounds: SimdAabb::EMPTY, count: 0 };
 
     fn add(self, o: &Bin) -> Bin {
-        Bin {
-            bounds: self.bounds.union(o.bounds),
-            count: self.count + o.count,
-        }
+        Bin { bounds: self.bounds.union(o.bounds), count: self.count + o.count }
     }
 }
 
@@ -114,14 +108,7 @@ impl Binning {
         let scale = Vec3A::splat(bins as f32) / extent;
         let usable = [0, 1, 2].map(|a| extent[a] > 0.0 && scale[a].is_finite());
         let scale = Vec3A::from_array([0, 1, 2].map(|a| if usable[a] { scale[a] } else { 0.0 }));
-        Self {
-            min: centroid_bounds.min,
-            scale,
-            lo: Vec3A::splat(0.5),
-            hi: Vec3A::splat(bins as f32 - 0.5),
-            last: bins - 1,
-            usable,
-        }
+        Self { min: centroid_bounds.min, scale, lo: Vec3A::splat(0.5), hi: Vec3A::splat(bins as f32 - 0.5), last: bins - 1, usable }
     }
     /// Bin index on each axis. The binning pass and the partition both call this, so they agree
     /// exactly on every primitive's side. t = (c - min) * scale lies in [0, bins]; clamped to
@@ -133,8 +120,7 @@ impl Binning {
     fn bins(&self, c: Vec3A) -> [usize; 3] {
         // A change here must be mirrored in `bin`.
         let t = ((c - self.min) * self.scale).max(self.lo).min(self.hi) + Vec3A::splat(ROUND_MAGIC);
-        t.to_array()
-            .map(|x| (x.to_bits().wrapping_sub(ROUND_MAGIC_BITS) as usize).min(self.last))
+        t.to_array().map(|x| (x.to_bits().wrapping_sub(ROUND_MAGIC_BITS) as usize).min(self.last))
     }
     /// `bins(c)[axis]` from the centroid's coordinate on that axis alone, with the same float
     /// operations in scalar form, so the two agree bit for bit (scalar `f32::max`/`min` return
@@ -142,10 +128,7 @@ impl Binning {
     /// unit test checks the agreement).
     #[inline]
     fn bin(&self, c: f32, axis: usize) -> usize {
-        let t = ((c - self.min[axis]) * self.scale[axis])
-            .max(self.lo[axis])
-            .min(self.hi[axis])
-            + ROUND_MAGIC;
+        let t = ((c - self.min[axis]) * self.scale[axis]).max(self.lo[axis]).min(self.hi[axis]) + ROUND_MAGIC;
         (t.to_bits().wrapping_sub(ROUND_MAGIC_BITS) as usize).min(self.last)
     }
 }
@@ -244,10 +227,7 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     } else {
         build_range(&mut refs, root, root_centroids, config)
     };
-    Bvh {
-        nodes,
-        prim_indices: refs.iter().map(|r| r.id).collect(),
-    }
+    Bvh { nodes, prim_indices: refs.iter().map(|r| r.id).collect() }
 }
 
 /// Subtrees of fewer primitives are built by one thread. Forking costs a task and, at the end,
@@ -267,12 +247,7 @@ fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 /// `prim_refs` on every worker of the current pool.
 fn prim_refs_parallel(boxes: &[Aabb], centroids: &[Vec3]) -> Vec<PrimRef> {
     use rayon::prelude::*;
-    boxes
-        .par_iter()
-        .zip(centroids)
-        .enumerate()
-        .map(|(id, (b, &centroid))| PrimRef { bounds: SimdAabb::from(*b), centroid, id: id as u32 })
-        .collect()
+    boxes.par_iter().zip(centroids).enumerate().map(|(id, (b, &centroid))| PrimRef { bounds: SimdAabb::from(*b), centroid, id: id as u32 }).collect()
 }
 
 /// A subtree built by the parallel build: its nodes, numbered as the one-thread build numbers a
@@ -350,20 +325,12 @@ fn build_range(refs: &mut [PrimRef], bounds: Aabb, centroid_bounds: SimdAabb, co
     let n = refs.len();
     let mut builder = Builder::new(config);
     let mut nodes = Vec::with_capacity(2 * n.div_ceil(builder.leaf_size));
-    nodes.push(Node {
-        bounds,
-        kind: NodeKind::Leaf { first: 0, count: 0 },
-    });
+    nodes.push(Node { bounds, kind: NodeKind::Leaf { first: 0, count: 0 } });
 
     // An explicit stack instead of recursion: SAH splits can peel off a few primitives at a time,
     // so depth is not bounded by log n and must never overflow the call stack. Depth-first order
     // keeps a parent's left child right after it in `nodes`.
-    let mut stack = vec![Task {
-        node: 0,
-        begin: 0,
-        end: n,
-        centroid_bounds,
-    }];
+    let mut stack = vec![Task { node: 0, begin: 0, end: n, centroid_bounds }];
     while let Some(task) = stack.pop() {
         let bounds = nodes[task.node as usize].bounds;
         let range = &mut refs[task.begin..task.end];
@@ -376,31 +343,12 @@ fn build_range(refs: &mut [PrimRef], bounds: Aabb, centroid_bounds: SimdAabb, co
             Some(c) => {
                 let left = nodes.len() as u32;
                 let placeholder = NodeKind::Leaf { first: 0, count: 0 };
-                nodes.push(Node {
-                    bounds: Aabb::from(c.left),
-                    kind: placeholder,
-                });
-                nodes.push(Node {
-                    bounds: Aabb::from(c.right),
-                    kind: placeholder,
-                });
+                nodes.push(Node { bounds: Aabb::from(c.left), kind: placeholder });
+                nodes.push(Node { bounds: Aabb::from(c.right), kind: placeholder });
                 let mid = task.begin + c.mid;
-                stack.push(Task {
-                    node: left + 1,
-                    begin: mid,
-                    end: task.end,
-                    centroid_bounds: c.right_centroids,
-                });
-                stack.push(Task {
-                    node: left,
-                    begin: task.begin,
-                    end: mid,
-                    centroid_bounds: c.left_centroids,
-                });
-                NodeKind::Interior {
-                    left,
-                    right: left + 1,
-                }
+                stack.push(Task { node: left + 1, begin: mid, end: task.end, centroid_bounds: c.right_centroids });
+                stack.push(Task { node: left, begin: task.begin, end: mid, centroid_bounds: c.left_centroids });
+                NodeKind::Interior { left, right: left + 1 }
             }
         };
         nodes[task.node as usize].kind = kind;
@@ -410,16 +358,7 @@ fn build_range(refs: &mut [PrimRef], bounds: Aabb, centroid_bounds: SimdAabb, co
 
 /// One record per primitive; ids are below 2^31 (the caller clamps `n`).
 fn prim_refs(boxes: &[Aabb], centroids: &[Vec3]) -> Vec<PrimRef> {
-    boxes
-        .iter()
-        .zip(centroids)
-        .zip(0u32..)
-        .map(|((b, &centroid), id)| PrimRef {
-            bounds: SimdAabb::from(*b),
-            centroid,
-            id,
-        })
-        .collect()
+    boxes.iter().zip(centroids).zip(0u32..).map(|((b, &centroid), id)| PrimRef { bounds: SimdAabb::from(*b), centroid, id }).collect()
 }
 
 impl Builder {
@@ -429,11 +368,7 @@ impl Builder {
             leaf_size: config.max_leaf_size.clamp(1, MAX_LEAF_SIZE) as usize,
             traversal_cost: config.traversal_cost,
             intersection_cost: config.intersection_cost,
-            binner: Binner {
-                bins,
-                grid: vec![Bin::EMPTY; 6 * bins],
-                suffix: vec![Bin::EMPTY; bins],
-            },
+            binner: Binner { bins, grid: vec![Bin::EMPTY; 6 * bins], suffix: vec![Bin::EMPTY; bins] },
             scratch: Vec::with_capacity(TINY_NODE),
         }
     }
@@ -453,13 +388,7 @@ impl Builder {
         Some(match plan {
             Plan::Binned(binning, s) => {
                 let (mid, left_centroids, right_centroids) = partition(refs, &binning, s.axis, s.bin);
-                Children {
-                    mid,
-                    left: s.left,
-                    left_centroids,
-                    right: s.right,
-                    right_centroids,
-                }
+                Children { mid, left: s.left, left_centroids, right: s.right, right_centroids }
             }
             Plan::Subset { mask, .. } => {
                 let mid = apply_subset(refs, mask, &mut self.scratch);
@@ -474,18 +403,11 @@ impl Builder {
     fn plan(&mut self, refs: &[PrimRef], centroid_bounds: &SimdAabb) -> Plan {
         if refs.len() <= TINY_NODE {
             return match best_subset(refs) {
-                Some((mask, weighted_area)) => Plan::Subset {
-                    mask,
-                    weighted_area,
-                },
+                Some((mask, weighted_area)) => Plan::Subset { mask, weighted_area },
                 None => Plan::Halve,
             };
         }
-        let bins = if refs.len() <= MEDIUM_NODE {
-            self.binner.bins.min(MEDIUM_BINS)
-        } else {
-            self.binner.bins
-        };
+        let bins = if refs.len() <= MEDIUM_NODE { self.binner.bins.min(MEDIUM_BINS) } else { self.binner.bins };
         let binning = Binning::new(centroid_bounds, bins);
         match self.binner.best_split(refs, &binning) {
             Some(s) => Plan::Binned(binning, s),
@@ -502,8 +424,7 @@ impl Builder {
             Plan::Subset { weighted_area, .. } => *weighted_area,
             Plan::Halve => return true,
         };
-        count as f32 * self.intersection_cost * area
-            <= self.traversal_cost * area + weighted_area * self.intersection_cost
+        count as f32 * self.intersection_cost * area <= self.traversal_cost * area + weighted_area * self.intersection_cost
     }
 }
 
@@ -511,13 +432,7 @@ impl Builder {
 fn halves(refs: &[PrimRef], mid: usize) -> Children {
     let (left, left_centroids) = range_bounds(&refs[..mid]);
     let (right, right_centroids) = range_bounds(&refs[mid..]);
-    Children {
-        mid,
-        left,
-        left_centroids,
-        right,
-        right_centroids,
-    }
+    Children { mid, left, left_centroids, right, right_centroids }
 }
 
 /// The cheapest split of at most [`TINY_NODE`] primitives into two non-empty sets, by trying
@@ -540,9 +455,7 @@ fn best_subset(refs: &[PrimRef]) -> Option<(u32, f32)> {
         let n_right = n as u32 - n_left;
         let weighted_area = left.area() * n_left as f32 + right.area() * n_right as f32;
         let imbalance = n_left.abs_diff(n_right);
-        if best.map_or(true, |(w, imb, _)| {
-            weighted_area < w || (weighted_area == w && imbalance < imb)
-        }) {
+        if best.map_or(true, |(w, imb, _)| weighted_area < w || (weighted_area == w && imbalance < imb)) {
             best = Some((weighted_area, imbalance, mask));
         }
     }
@@ -626,26 +539,15 @@ impl Binner {
                 if left.count == 0 || right.count == 0 {
                     continue;
                 }
-                let weighted_area = left.bounds.area() * left.count as f32
-                    + right.bounds.area() * right.count as f32;
+                let weighted_area = left.bounds.area() * left.count as f32 + right.bounds.area() * right.count as f32;
                 // Among planes of equal cost take the most balanced one. Ties are common exactly
                 // where it matters: zero-area boxes (all on a line or a point) cost 0 everywhere,
                 // and always taking the first plane would peel off one bin at a time and make
                 // the tree as deep as the input is long.
                 let imbalance = left.count.abs_diff(right.count);
-                if best.as_ref().map_or(true, |b| {
-                    weighted_area < b.weighted_area
-                        || (weighted_area == b.weighted_area && imbalance < b.imbalance)
-                }) {
+                if best.as_ref().map_or(true, |b| weighted_area < b.weighted_area || (weighted_area == b.weighted_area && imbalance < b.imbalance)) {
                     let bin = i as u32 + 1;
-                    best = Some(Split {
-                        axis,
-                        bin,
-                        weighted_area,
-                        imbalance,
-                        left: left.bounds,
-                        right: right.bounds,
-                    });
+                    best = Some(Split { axis, bin, weighted_area, imbalance, left: left.bounds, right: right.bounds });
                 }
             }
         }
@@ -656,12 +558,7 @@ impl Binner {
 /// Partition `refs` in place so primitives whose centroid falls in a bin `< split_bin` on `axis`
 /// come first; returns the first right index and the left and right centroid bounds, gathered
 /// here so the children need no extra pass.
-fn partition(
-    refs: &mut [PrimRef],
-    binning: &Binning,
-    axis: usize,
-    split_bin: u32,
-) -> (usize, SimdAabb, SimdAabb) {
+fn partition(refs: &mut [PrimRef], binning: &Binning, axis: usize, split_bin: u32) -> (usize, SimdAabb, SimdAabb) {
     let split_bin = split_bin as usize;
     let goes_left = |r: &PrimRef| binning.bin(r.centroid[axis], axis) < split_bin;
     // Hoare's scheme: scan in from both ends and swap only pairs that are both on the wrong
@@ -702,9 +599,7 @@ fn matched_centroids<'a>(boxes: &[Aabb], centroids: &'a [Vec3], n: usize) -> Cow
 
 /// Bounds of the primitives' boxes and of their centroids, in one pass.
 fn range_bounds(refs: &[PrimRef]) -> (SimdAabb, SimdAabb) {
-    refs.iter().fold((SimdAabb::EMPTY, SimdAabb::EMPTY), |(b, c), r| {
-        (b.union(r.bounds), c.grow(r.centroid.into()))
-    })
+    refs.iter().fold((SimdAabb::EMPTY, SimdAabb::EMPTY), |(b, c), r| (b.union(r.bounds), c.grow(r.centroid.into())))
 }
 
 #[cfg(test)]
@@ -715,10 +610,7 @@ mod tests {
     /// or child boxes taken from the bins would miss primitives.
     #[test]
     fn scalar_and_simd_bins_agree() {
-        let bounds = SimdAabb {
-            min: Vec3A::new(-1.0, 0.0, 3.0),
-            max: Vec3A::new(2.0, 1e-30, 3.0),
-        };
+        let bounds = SimdAabb { min: Vec3A::new(-1.0, 0.0, 3.0), max: Vec3A::new(2.0, 1e-30, 3.0) };
         for bins in [2, 8, 16, 256] {
             let binning = Binning::new(&bounds, bins);
             let mut values: Vec<f32> = (-40..=40).map(|i| i as f32 * 0.0625).collect();

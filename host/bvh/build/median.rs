@@ -41,63 +41,37 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
 
     // `n` fits in u32 (clamped above), so every index below does too.
     let mut prims: Vec<u32> = (0..n as u32).collect();
-    let placeholder = Node {
-        bounds: Aabb::EMPTY,
-        kind: NodeKind::Leaf { first: 0, count: 0 },
-    };
+    let placeholder = Node { bounds: Aabb::EMPTY, kind: NodeKind::Leaf { first: 0, count: 0 } };
     let mut nodes = Vec::with_capacity(2 * n.div_ceil(leaf_size));
     nodes.push(placeholder);
 
     // An explicit stack instead of recursion: degenerate inputs must never overflow the call
     // stack. Depth-first order keeps a parent's left child right after it in `nodes`.
-    let mut stack = vec![Task {
-        node: 0,
-        begin: 0,
-        end: n,
-    }];
+    let mut stack = vec![Task { node: 0, begin: 0, end: n }];
     while let Some(Task { node, begin, end }) = stack.pop() {
         let range = &mut prims[begin..end];
         let (bounds, centroid_bounds) = range_bounds(range, boxes, &centroids);
         let count = end - begin;
         let kind = if count <= leaf_size {
-            NodeKind::Leaf {
-                first: begin as u32,
-                count: count as u32,
-            }
+            NodeKind::Leaf { first: begin as u32, count: count as u32 }
         } else {
             let half = count / 2;
             let axis = centroid_bounds.widest_axis();
             // If the centroids coincide on every axis no position separates them; any half is as
             // good as another, so keep the index order and split by count alone.
             if centroid_bounds.extent()[axis] > 0.0 {
-                range.select_nth_unstable_by(half, |&a, &b| {
-                    centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
-                });
+                range.select_nth_unstable_by(half, |&a, &b| centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis]));
             }
             let left = nodes.len() as u32;
             nodes.push(placeholder);
             nodes.push(placeholder);
-            stack.push(Task {
-                node: left + 1,
-                begin: begin + half,
-                end,
-            });
-            stack.push(Task {
-                node: left,
-                begin,
-                end: begin + half,
-            });
-            NodeKind::Interior {
-                left,
-                right: left + 1,
-            }
+            stack.push(Task { node: left + 1, begin: begin + half, end });
+            stack.push(Task { node: left, begin, end: begin + half });
+            NodeKind::Interior { left, right: left + 1 }
         };
         nodes[node as usize] = Node { bounds, kind };
     }
-    Bvh {
-        nodes,
-        prim_indices: prims,
-    }
+    Bvh { nodes, prim_indices: prims }
 }
 
 /// The first `n` centroids to split by: the caller's if they match `boxes` one to one, else the
@@ -111,7 +85,5 @@ fn matched_centroids<'a>(boxes: &[Aabb], centroids: &'a [Vec3], n: usize) -> Cow
 
 /// Bounds of the primitives' boxes and of their centroids, in one pass.
 fn range_bounds(prims: &[u32], boxes: &[Aabb], centroids: &[Vec3]) -> (Aabb, Aabb) {
-    prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), &p| {
-        (b.union(&boxes[p as usize]), c.grow(centroids[p as usize]))
-    })
+    prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), &p| (b.union(&boxes[p as usize]), c.grow(centroids[p as usize])))
 }

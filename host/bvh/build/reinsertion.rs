@@ -159,10 +159,7 @@ pub fn optimize(bvh: Bvh, _config: &BuildConfig) -> Bvh {
     let mut total: f64 = tree.nodes.iter().map(|n| area(&n.bounds)).sum::<f64>() / root_area;
     let batch = (count / 100).max(1);
     for _ in 0..MAX_BATCHES {
-        let mut order: Vec<(f64, u32)> = (1..count as u32)
-            .filter(|&i| tree.parent[i as usize] != 0)
-            .map(|i| (tree.inefficiency(i), i))
-            .collect();
+        let mut order: Vec<(f64, u32)> = (1..count as u32).filter(|&i| tree.parent[i as usize] != 0).map(|i| (tree.inefficiency(i), i)).collect();
         let k = batch.min(order.len());
         if k == 0 {
             break;

@@ -59,9 +59,7 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
     // input is the loader's job, and total_cmp keeps even NaN from panicking).
     let sorted: [Vec<u32>; 3] = [0, 1, 2].map(|axis| {
         let mut order: Vec<u32> = (0..n as u32).collect();
-        order.sort_unstable_by(|&a, &b| {
-            centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis]).then(a.cmp(&b))
-        });
+        order.sort_unstable_by(|&a, &b| centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis]).then(a.cmp(&b)));
         order
     });
     let mut sorted = sorted;
@@ -81,10 +79,8 @@ pub fn build(boxes: &[Aabb], centroids: &[Vec3], config: &BuildConfig) -> Bvh {
         let split = if count > 1 { best_split(&sorted, begin, end, &boxes, &mut suffix) } else { None };
         // Compared multiplied through by A_parent, as in binned_sah.rs.
         let leaf_cost = count as f32 * config.intersection_cost * area;
-        let make_leaf = count <= leaf_size
-            && split.as_ref().map_or(true, |s| {
-                leaf_cost <= config.traversal_cost * area + s.weighted_area * config.intersection_cost
-            });
+        let make_leaf =
+            count <= leaf_size && split.as_ref().map_or(true, |s| leaf_cost <= config.traversal_cost * area + s.weighted_area * config.intersection_cost);
         let split = match split {
             Some(s) if !make_leaf => s,
             _ => {
@@ -134,9 +130,7 @@ fn best_split(sorted: &[Vec<u32>; 3], begin: usize, end: usize, boxes: &[SimdAab
             // Equal costs: take the most balanced split, so zero-area inputs (cost 0 everywhere)
             // still give logarithmic depth.
             let imbalance = i.abs_diff(count - i);
-            if best.as_ref().map_or(true, |b| {
-                weighted_area < b.weighted_area || (weighted_area == b.weighted_area && imbalance < b.imbalance)
-            }) {
+            if best.as_ref().map_or(true, |b| weighted_area < b.weighted_area || (weighted_area == b.weighted_area && imbalance < b.imbalance)) {
                 best = Some(Split { axis, count: i, weighted_area, imbalance, left, right: SimdAabb::EMPTY });
             }
         }

@@ -80,11 +80,7 @@ impl Accumulation {
 
     /// Each pixel's sum (of `sums`, fixed point) over its count (`count(p)`).
     fn mean_of(&self, sums: impl Iterator<Item = [u64; 3]>, count: impl Fn(usize) -> u64) -> Image {
-        Image {
-            width: self.width,
-            height: self.height,
-            pixels: sums.enumerate().map(|(p, s)| mean(s, count(p))).collect(),
-        }
+        Image { width: self.width, height: self.height, pixels: sums.enumerate().map(|(p, s)| mean(s, count(p))).collect() }
     }
 
     /// Pixel p's sum over all its samples (even + odd; cannot overflow: `add` checks).

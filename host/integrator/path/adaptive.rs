@@ -123,9 +123,8 @@ pub fn block_rates(pilot: &Accumulation, grid: BlockGrid) -> Vec<u32> {
             table[(y + 1) * (w + 1) + x + 1] = table[y * (w + 1) + x + 1] + row;
         }
     }
-    let rect = |x0: usize, x1: usize, y0: usize, y1: usize| {
-        table[y1 * (w + 1) + x1] - table[y0 * (w + 1) + x1] - table[y1 * (w + 1) + x0] + table[y0 * (w + 1) + x0]
-    };
+    let rect =
+        |x0: usize, x1: usize, y0: usize, y1: usize| table[y1 * (w + 1) + x1] - table[y0 * (w + 1) + x1] - table[y1 * (w + 1) + x0] + table[y0 * (w + 1) + x0];
     let (left, right, up, down) = grid.window_reach();
     let (left, right, up, down) = (left as usize, right as usize, up as usize, down as usize);
     let noise: Vec<f64> = (0..grid.count())
@@ -136,7 +135,11 @@ pub fn block_rates(pilot: &Accumulation, grid: BlockGrid) -> Vec<u32> {
             let (wy0, wy1) = (y0.saturating_sub(up), (y1 + down).min(h));
             let around = rect(wx0, wx1, wy0, wy1) - rect(x0, x1, y0, y1);
             let n = (wx1 - wx0) * (wy1 - wy0) - (x1 - x0) * (y1 - y0);
-            if n > 0 { (around / n as f64).max(0.0).sqrt() } else { 0.0 }
+            if n > 0 {
+                (around / n as f64).max(0.0).sqrt()
+            } else {
+                0.0
+            }
         })
         .collect();
     // The scale: the mean over the blocks other than this one whose windows do not hold its
@@ -194,7 +197,11 @@ pub fn final_counts(rates: &[u32], grid: BlockGrid, budget: u64) -> Vec<u32> {
         if mid <= lo || mid >= hi {
             break;
         }
-        if total_at(mid) >= budget { hi = mid } else { lo = mid }
+        if total_at(mid) >= budget {
+            hi = mid
+        } else {
+            lo = mid
+        }
     }
     rates.iter().enumerate().map(|(k, &r)| count_at(hi, k, r)).collect()
 }

@@ -70,10 +70,7 @@ pub enum Identity {
 
 /// Hashes the content of every file in `paths` (the scene's `LoadStats::inputs`).
 pub fn hash_inputs(paths: &[PathBuf]) -> Result<Vec<InputHash>> {
-    paths
-        .iter()
-        .map(|p| Ok(InputHash { path: p.display().to_string(), hash: crate::prepare::content_hash(p)? }))
-        .collect()
+    paths.iter().map(|p| Ok(InputHash { path: p.display().to_string(), hash: crate::prepare::content_hash(p)? })).collect()
 }
 
 /// How a resumed run goes on when its command line says nothing more: what the first run was
@@ -141,7 +138,11 @@ fn nee_name(v: u32) -> String {
 
 /// A max depth as `--max-depth` reads.
 fn depth_name(v: u32) -> String {
-    if v == crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED { "unbounded".into() } else { v.to_string() }
+    if v == crate::gpu_abi::constants::PATH_DEPTH_UNBOUNDED {
+        "unbounded".into()
+    } else {
+        v.to_string()
+    }
 }
 
 impl RunSettings {
@@ -179,22 +180,12 @@ fn check_same_scene(a: &Identity, b: &Identity, a_name: &str, b_name: &str) -> R
         (Identity::Inputs { inputs: ia, sky: sa, camera: ca }, Identity::Inputs { inputs: ib, sky: sb, camera: cb }) => {
             if ia.len() != ib.len() {
                 let list = |v: &[InputHash]| v.iter().map(|i| i.path.as_str()).collect::<Vec<_>>().join(", ");
-                bail!(
-                    "the scenes are made of different files: {a_name} read {} ({}), {b_name} read {} ({})",
-                    ia.len(),
-                    list(ia),
-                    ib.len(),
-                    list(ib)
-                );
+                bail!("the scenes are made of different files: {a_name} read {} ({}), {b_name} read {} ({})", ia.len(), list(ia), ib.len(), list(ib));
             }
             for (x, y) in ia.iter().zip(ib) {
                 if x.hash != y.hash {
                     let same_name = x.path == y.path;
-                    bail!(
-                        "scene file content differs: {}{}",
-                        x.path,
-                        if same_name { " changed".to_string() } else { format!(" vs {}", y.path) }
-                    );
+                    bail!("scene file content differs: {}{}", x.path, if same_name { " changed".to_string() } else { format!(" vs {}", y.path) });
                 }
             }
             if sa != sb {
@@ -228,8 +219,7 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 /// A camera `[eye, target, up, fov, aperture, focus]` in `vkrt render`'s own flags (the lens
 /// flags only for a thin lens).
 pub fn camera_flags(c: &[f32; CAMERA_NUMBERS]) -> String {
-    let mut s =
-        format!("--eye {},{},{} --target {},{},{} --up {},{},{} --fov {}", c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9]);
+    let mut s = format!("--eye {},{},{} --target {},{},{} --up {},{},{} --fov {}", c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9]);
     if c[10] > 0.0 {
         s += &format!(" --aperture {} --focus-distance {}", c[10], c[11]);
     }
@@ -313,10 +303,7 @@ impl<'a> Reader<'a> {
     }
     fn counts(&mut self, count: usize) -> Result<Vec<[u32; 2]>> {
         let bytes = self.bytes(count.checked_mul(8).context("image too large")?, "sample counts")?;
-        Ok(bytes
-            .chunks_exact(8)
-            .map(|c| [u32::from_le_bytes([c[0], c[1], c[2], c[3]]), u32::from_le_bytes([c[4], c[5], c[6], c[7]])])
-            .collect())
+        Ok(bytes.chunks_exact(8).map(|c| [u32::from_le_bytes([c[0], c[1], c[2], c[3]]), u32::from_le_bytes([c[4], c[5], c[6], c[7]])]).collect())
     }
     /// The shards field: None for a whole run (count 0).
     fn shards(&mut self) -> Result<Option<ShardSet>> {
@@ -492,9 +479,7 @@ impl Checkpoint {
             if n > remaining / 12 {
                 bail!("field `input count` is {n}, more than the {remaining} bytes left can hold");
             }
-            let inputs = (0..n)
-                .map(|_| Ok(InputHash { path: r.string("input path")?, hash: r.u64("input hash")? }))
-                .collect::<Result<Vec<_>>>()?;
+            let inputs = (0..n).map(|_| Ok(InputHash { path: r.string("input path")?, hash: r.u64("input hash")? })).collect::<Result<Vec<_>>>()?;
             // Formats before the lens stored ten numbers: a pinhole.
             let stored = if version > VERSION_BEFORE_LENS { CAMERA_NUMBERS } else { 10 };
             let mut camera = [0.0f32; CAMERA_NUMBERS];
@@ -503,7 +488,11 @@ impl Checkpoint {
             }
             // A hash in the old slot: a run first saved in format 3 or older, written again
             // (resumed or merged) with its weaker identity and this block empty.
-            if scene_hash != 0 { Identity::SceneFile { fnv: scene_hash } } else { Identity::Inputs { inputs, sky, camera } }
+            if scene_hash != 0 {
+                Identity::SceneFile { fnv: scene_hash }
+            } else {
+                Identity::Inputs { inputs, sky, camera }
+            }
         } else {
             Identity::SceneFile { fnv: scene_hash }
         };
@@ -543,8 +532,7 @@ impl Checkpoint {
 
     /// Writes atomically: a temporary file beside `path`, then a rename.
     pub fn write(&self, path: &Path) -> Result<()> {
-        crate::files::write_whole(path, |tmp| Ok(std::fs::write(tmp, self.to_bytes())?))
-            .with_context(|| format!("writing checkpoint {}", path.display()))
+        crate::files::write_whole(path, |tmp| Ok(std::fs::write(tmp, self.to_bytes())?)).with_context(|| format!("writing checkpoint {}", path.display()))
     }
 
     pub fn read(path: &Path) -> Result<Self> {
@@ -572,11 +560,9 @@ impl Checkpoint {
                 // All parts together are the whole run, as if rendered in one go.
                 self.settings.shards = if union.missing().is_empty() { None } else { Some(union) };
             }
-            (Some(s), None) | (None, Some(s)) => bail!(
-                "one run is a shard of a {}-spp run cut into {} parts and the other a whole run: merge the shards first",
-                s.total_spp,
-                s.count
-            ),
+            (Some(s), None) | (None, Some(s)) => {
+                bail!("one run is a shard of a {}-spp run cut into {} parts and the other a whole run: merge the shards first", s.total_spp, s.count)
+            }
         }
         self.accum.add(&other.accum)?;
         Ok(())
@@ -702,10 +688,8 @@ mod tests {
     fn without_last_setting_words(c: &Checkpoint, drop: usize, version: u32) -> Vec<u8> {
         let bytes = c.to_bytes();
         let s = &c.settings;
-        let words: Vec<u8> = [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block, s.zsobol_log2]
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+        let words: Vec<u8> =
+            [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block, s.zsobol_log2].iter().flat_map(|v| v.to_le_bytes()).collect();
         let end = bytes.windows(words.len()).position(|w| w == words.as_slice()).expect("the settings words") + words.len();
         let mut old = [&bytes[..end - 4 * drop], &bytes[end..]].concat();
         old[8..12].copy_from_slice(&version.to_le_bytes());

@@ -56,12 +56,20 @@ pub fn check(coherence: u32, block: u32) -> Result<()> {
 
 /// log2 of the block side for the shader (0: rows, or no coherence).
 pub fn block_bits(coherence: u32, block: u32) -> u32 {
-    if coherence <= 1 || block == 0 { 0 } else { block.trailing_zeros() }
+    if coherence <= 1 || block == 0 {
+        0
+    } else {
+        block.trailing_zeros()
+    }
 }
 
 /// The pixels a dispatch must cover together: whole blocks when groups are scattered.
 pub fn dispatch_alignment(coherence: u32, block: u32) -> u32 {
-    if block_bits(coherence, block) == 0 { 1 } else { block }
+    if block_bits(coherence, block) == 0 {
+        1
+    } else {
+        block
+    }
 }
 
 /// rng.glsl's `hash_pcg` (Jarzynski & Olano 2020, "Hash functions for GPU rendering").

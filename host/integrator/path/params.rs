@@ -53,7 +53,11 @@ pub fn path_params(scene: &GpuScene, settings: &PathSettings) -> Result<GpuPathP
         nee: settings.nee as u32,
         inv_total_weight: scene.inv_total_weight,
         coherence: settings.coherence,
-        adaptive: if settings.adaptive { BlockGrid::new(settings.image.width, settings.image.height, settings.coherence, settings.coherence_block).block_w } else { 0 },
+        adaptive: if settings.adaptive {
+            BlockGrid::new(settings.image.width, settings.image.height, settings.coherence, settings.coherence_block).block_w
+        } else {
+            0
+        },
         coherence_block_bits: super::coherence::block_bits(settings.coherence, settings.coherence_block),
         zsobol_log2: settings.zsobol_log2,
         // The mirror variant samples light through them (`PathSettings::mirror_sampling`).

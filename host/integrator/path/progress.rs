@@ -44,4 +44,3 @@ pub struct Hooks<'h> {
     /// the final checkpoint holds every finished sample (Ctrl-C and SIGTERM raise it).
     pub interrupt: Option<&'h std::sync::atomic::AtomicBool>,
 }
-

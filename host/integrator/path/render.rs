@@ -127,7 +127,19 @@ impl<'a> PathGpu<'a> {
         for (binding, plane) in SUM_PLANES.iter().zip(&planes) {
             pipeline.bind(*binding, plane)?;
         }
-        Ok(Self { planes, counts, blocks, rays, _mirror_probe: mirror_probe, probes_mirrors, connects, pipeline, shader, _frame: frame_buf, _params: params_buf })
+        Ok(Self {
+            planes,
+            counts,
+            blocks,
+            rays,
+            _mirror_probe: mirror_probe,
+            probes_mirrors,
+            connects,
+            pipeline,
+            shader,
+            _frame: frame_buf,
+            _params: params_buf,
+        })
     }
 
     /// The sums as they stand, read into `acc` (its kind, uniform or per-pixel counts, and its
@@ -218,11 +230,8 @@ pub fn render(
     };
     let pixels = img.width as u64 * img.height as u64;
     // Adaptive runs use the size for their pilot only: then each block's rate decides.
-    let mut sizer = if settings.grow_batches && !settings.adaptive {
-        BatchSizer::growing(img.samples_per_batch)
-    } else {
-        BatchSizer::fixed(img.samples_per_batch)
-    };
+    let mut sizer =
+        if settings.grow_batches && !settings.adaptive { BatchSizer::growing(img.samples_per_batch) } else { BatchSizer::fixed(img.samples_per_batch) };
     let empty = scene.bvh.triangle_count == 0;
     if gpu.probes_mirrors && !empty {
         // Before any sample: each run (resumed or a shard too) computes the same values.

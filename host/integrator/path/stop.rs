@@ -39,9 +39,7 @@ impl Stop {
     pub fn holds(&self, run: &RunState) -> bool {
         let spp = self.spp.is_some_and(|n| run.samples >= n);
         let time = self.seconds.is_some_and(|t| run.samples > run.first_sample && run.seconds + run.next_batch_s > t);
-        let error = self
-            .target_relmse
-            .is_some_and(|t| run.samples >= MIN_SAMPLES_FOR_ESTIMATE && run.relmse.is_some_and(|e| e <= t));
+        let error = self.target_relmse.is_some_and(|t| run.samples >= MIN_SAMPLES_FOR_ESTIMATE && run.relmse.is_some_and(|e| e <= t));
         spp || time || error
     }
 

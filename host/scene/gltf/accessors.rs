@@ -71,6 +71,10 @@ fn fits(root: &json::Root, view: json::Index<json::buffer::View>, offset: u64, c
     let end = stride.checked_mul(count - 1).and_then(|b| b.checked_add(size)).and_then(|b| b.checked_add(offset));
     match end {
         Some(end) if end <= v.byte_length.0 => Ok(()),
-        _ => Err(format!("{count} elements of {size} bytes from byte {offset} (stride {stride}) lie outside bufferView {}'s {} bytes", view.value(), v.byte_length.0)),
+        _ => Err(format!(
+            "{count} elements of {size} bytes from byte {offset} (stride {stride}) lie outside bufferView {}'s {} bytes",
+            view.value(),
+            v.byte_length.0
+        )),
     }
 }

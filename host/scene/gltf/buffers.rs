@@ -11,20 +11,14 @@ use crate::scene::input_file::{read_bounded, MAX_GEOMETRY_BYTES};
 use crate::scene::LoadStats;
 
 /// Loads every buffer in `buffers[]` order; each read file is recorded in `stats`.
-pub fn load(
-    document: &::gltf::Document,
-    mut blob: Option<Vec<u8>>,
-    file: &Path,
-    dir: &Path,
-    stats: &mut LoadStats,
-) -> anyhow::Result<Vec<Vec<u8>>> {
+pub fn load(document: &::gltf::Document, mut blob: Option<Vec<u8>>, file: &Path, dir: &Path, stats: &mut LoadStats) -> anyhow::Result<Vec<Vec<u8>>> {
     let mut out = Vec::new();
     for buffer in document.buffers() {
         let loc = format!("buffers[{}]", buffer.index());
         let mut data = match buffer.source() {
-            ::gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
-                at(file, &loc, "refers to the GLB binary chunk, which the file does not have (or a second buffer does too)")
-            })?,
+            ::gltf::buffer::Source::Bin => {
+                blob.take().ok_or_else(|| at(file, &loc, "refers to the GLB binary chunk, which the file does not have (or a second buffer does too)"))?
+            }
             ::gltf::buffer::Source::Uri(uri) => uri_bytes(uri, file, dir, &loc, stats)?,
         };
         if data.len() < buffer.length() {
@@ -48,9 +42,7 @@ pub fn uri_bytes(uri: &str, file: &Path, dir: &Path, loc: &str, stats: &mut Load
         if !header.ends_with(";base64") {
             return Err(at(file, loc, format!("data URI '{header}' is not base64 (the only encoding glTF allows)")));
         }
-        return base64::engine::general_purpose::STANDARD
-            .decode(payload.trim())
-            .map_err(|e| at(file, loc, format!("data URI is not valid base64: {e}")));
+        return base64::engine::general_purpose::STANDARD.decode(payload.trim()).map_err(|e| at(file, loc, format!("data URI is not valid base64: {e}")));
     }
     let path = uri_path(dir, uri);
     let bytes = read_bounded(&path, MAX_GEOMETRY_BYTES).map_err(|e| at(file, loc, format!("{}: {e}", path.display())))?;

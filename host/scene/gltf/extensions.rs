@@ -8,17 +8,13 @@ use crate::error::InputError;
 use crate::scene::LoadStats;
 
 /// The extensions the loader implements.
-pub const SUPPORTED_EXTENSIONS: &[&str] =
-    &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"];
 
 /// Fails on a required extension vkrt does not implement; warns once for each optional one.
 pub fn check(document: &::gltf::Document, file: &Path, stats: &mut LoadStats) -> anyhow::Result<()> {
     for (i, name) in document.extensions_required().enumerate() {
         if !SUPPORTED_EXTENSIONS.contains(&name) {
-            let msg = format!(
-                "the file requires extension {name}, which vkrt does not support (supported: {})",
-                SUPPORTED_EXTENSIONS.join(", ")
-            );
+            let msg = format!("the file requires extension {name}, which vkrt does not support (supported: {})", SUPPORTED_EXTENSIONS.join(", "));
             return Err(super::at(file, format!("extensionsRequired[{i}]"), msg));
         }
     }

@@ -22,12 +22,8 @@ pub fn light(light: &::gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
         ::gltf::khr_lights_punctual::Kind::Point => Light::Point { position, intensity },
         // `Light::Directional::direction` points toward the light: the node's +Z.
         ::gltf::khr_lights_punctual::Kind::Directional => Light::Directional { direction: -shines, intensity },
-        ::gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => Light::Cone {
-            position,
-            direction: shines,
-            intensity,
-            cos_inner: inner_cone_angle.cos(),
-            cos_outer: outer_cone_angle.cos(),
-        },
+        ::gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+            Light::Cone { position, direction: shines, intensity, cos_inner: inner_cone_angle.cos(), cos_outer: outer_cone_angle.cos() }
+        }
     }
 }

@@ -49,12 +49,7 @@ impl MaterialTable {
 
 /// Converts every material of the document into `scene.materials` (in order, so indices agree),
 /// decoding their textures, and adds the default material if some primitive has none.
-pub fn convert(
-    document: &::gltf::Document,
-    file: &Path,
-    images: &mut Images,
-    scene: &mut Scene,
-) -> anyhow::Result<MaterialTable> {
+pub fn convert(document: &::gltf::Document, file: &Path, images: &mut Images, scene: &mut Scene) -> anyhow::Result<MaterialTable> {
     let mut uv_transform = Vec::new();
     for m in document.materials() {
         let (material, uv) = convert_one(&m, file, images, scene)?;
@@ -115,12 +110,7 @@ pub fn transform_uv(m: &Mat3, uv: Vec2) -> Vec2 {
     m.transform_point2(uv)
 }
 
-fn convert_one(
-    m: &::gltf::Material,
-    file: &Path,
-    images: &mut Images,
-    scene: &mut Scene,
-) -> anyhow::Result<(Material, Option<Mat3>)> {
+fn convert_one(m: &::gltf::Material, file: &Path, images: &mut Images, scene: &mut Scene) -> anyhow::Result<(Material, Option<Mat3>)> {
     let index = m.index().unwrap_or(0);
     let loc = format!("materials[{index}]");
     let pbr = m.pbr_metallic_roughness();
@@ -138,11 +128,7 @@ fn convert_one(
     if let Some(n) = m.normal_texture() {
         // NormalTextureInfo is no textureInfo in the crate; its transform is read from JSON.
         let transform = n.extension_value("KHR_texture_transform").map(json_uv_matrix);
-        let tex_coord = n
-            .extension_value("KHR_texture_transform")
-            .and_then(|v| v.get("texCoord"))
-            .and_then(|v| v.as_u64())
-            .map_or(n.tex_coord(), |c| c as u32);
+        let tex_coord = n.extension_value("KHR_texture_transform").and_then(|v| v.get("texCoord")).and_then(|v| v.as_u64()).map_or(n.tex_coord(), |c| c as u32);
         refs.push(("normal", TexRef { texture: n.texture(), tex_coord, transform, loc: format!("{loc}.normalTexture") }));
     }
 
@@ -156,11 +142,7 @@ fn convert_one(
         shininess: 1.0,
         illum: 2,
         emission: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
-        metallic_roughness: Some(MetallicRoughness {
-            metallic: pbr.metallic_factor(),
-            roughness: pbr.roughness_factor(),
-            texture: None,
-        }),
+        metallic_roughness: Some(MetallicRoughness { metallic: pbr.metallic_factor(), roughness: pbr.roughness_factor(), texture: None }),
         alpha_cutoff: m.alpha_cutoff().unwrap_or(0.5),
         double_sided: m.double_sided(),
         ..Material::default()
@@ -180,9 +162,7 @@ fn convert_one(
             _ if uv.unwrap_or(Mat3::IDENTITY).abs_diff_eq(transform, 1e-6) => {}
             (_, from) => {
                 let from = from.clone().unwrap_or_default();
-                let msg = format!(
-                    "KHR_texture_transform differs from that of {from}; vkrt keeps one UV transform per material, {from}'s"
-                );
+                let msg = format!("KHR_texture_transform differs from that of {from}; vkrt keeps one UV transform per material, {from}'s");
                 scene.stats.warn(InputError::new(file, Some(r.loc.clone()), msg).to_string());
             }
         }
@@ -218,10 +198,7 @@ fn convert_one(
 /// A KHR_texture_transform object read from raw JSON (for `normalTexture`).
 fn json_uv_matrix(v: &::gltf::json::Value) -> Mat3 {
     let pair = |key: &str, default: [f32; 2]| -> [f32; 2] {
-        v.get(key)
-            .and_then(|a| a.as_array())
-            .and_then(|a| Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32]))
-            .unwrap_or(default)
+        v.get(key).and_then(|a| a.as_array()).and_then(|a| Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32])).unwrap_or(default)
     };
     let rotation = v.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0) as f32;
     uv_matrix(pair("offset", [0.0, 0.0]), rotation, pair("scale", [1.0, 1.0]))

@@ -56,14 +56,7 @@ pub fn check_placed_triangles(placed: &[super::nodes::Placed], file: &Path) -> a
 
 /// Adds every primitive of `mesh`, placed by `world`, to the scene (degenerate triangles
 /// dropped as the other loaders do, `Scene::tangents` kept in step).
-pub fn add_mesh(
-    scene: &mut Scene,
-    mesh: &::gltf::Mesh,
-    world: Mat4,
-    buffers: &[Vec<u8>],
-    materials: &MaterialTable,
-    file: &Path,
-) -> anyhow::Result<()> {
+pub fn add_mesh(scene: &mut Scene, mesh: &::gltf::Mesh, world: Mat4, buffers: &[Vec<u8>], materials: &MaterialTable, file: &Path) -> anyhow::Result<()> {
     for prim in mesh.primitives() {
         let loc = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
         let material = materials.index(prim.material().index());
@@ -76,8 +69,7 @@ pub fn add_mesh(
         let mirrored = det < 0.0;
         let w_sign = if mirrored { -1.0 } else { 1.0 };
         let positions: Vec<Vec3> = v.positions.iter().map(|&p| world.transform_point3(Vec3::from(p))).collect();
-        let normals: Option<Vec<Vec3>> =
-            v.normals.map(|ns| ns.iter().map(|&n| (normal_matrix * Vec3::from(n)).normalize_or_zero()).collect());
+        let normals: Option<Vec<Vec3>> = v.normals.map(|ns| ns.iter().map(|&n| (normal_matrix * Vec3::from(n)).normalize_or_zero()).collect());
         let uvs: Option<Vec<Vec2>> = v.uvs.map(|uvs| {
             uvs.iter()
                 .map(|&uv| {
@@ -99,12 +91,8 @@ pub fn add_mesh(
             if mirrored {
                 c.swap(1, 2);
             }
-            let t = Triangle {
-                p: c.map(|i| positions[i]),
-                n: normals.as_ref().map(|n| c.map(|i| n[i])),
-                uv: uvs.as_ref().map(|uv| c.map(|i| uv[i])),
-                material,
-            };
+            let t =
+                Triangle { p: c.map(|i| positions[i]), n: normals.as_ref().map(|n| c.map(|i| n[i])), uv: uvs.as_ref().map(|uv| c.map(|i| uv[i])), material };
             if push_triangle(scene, t) {
                 scene.tangents.push(tangents.as_ref().map_or([Vec4::ZERO; 3], |ts| c.map(|i| ts[i])));
             }
@@ -146,8 +134,7 @@ fn read_vertices(prim: &::gltf::Primitive, buffers: &[Vec<u8>], file: &Path, loc
     if prim.get(&Semantic::Positions).is_none() {
         return Err(at(file, loc, "the primitive has no POSITION attribute"));
     }
-    let positions: Vec<[f32; 3]> =
-        reader.read_positions().ok_or_else(|| unreadable("POSITION", prim.get(&Semantic::Positions)))?.collect();
+    let positions: Vec<[f32; 3]> = reader.read_positions().ok_or_else(|| unreadable("POSITION", prim.get(&Semantic::Positions)))?.collect();
     let n = positions.len();
     let same_length = |name: &str, len: usize| -> anyhow::Result<()> {
         if len == n {
@@ -181,13 +168,7 @@ fn read_vertices(prim: &::gltf::Primitive, buffers: &[Vec<u8>], file: &Path, loc
 }
 
 /// The vertex indices of each triangle, in the primitive's order (section 3.7.2.1).
-fn triangle_corners(
-    prim: &::gltf::Primitive,
-    buffers: &[Vec<u8>],
-    vertex_count: usize,
-    file: &Path,
-    loc: &str,
-) -> anyhow::Result<Vec<[usize; 3]>> {
+fn triangle_corners(prim: &::gltf::Primitive, buffers: &[Vec<u8>], vertex_count: usize, file: &Path, loc: &str) -> anyhow::Result<Vec<[usize; 3]>> {
     use ::gltf::mesh::Mode;
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let indices: Vec<usize> = match prim.indices() {
@@ -196,9 +177,8 @@ fn triangle_corners(
             // Spec section 3.7.2.1: scalars of unsigned byte, short or int.
             use ::gltf::accessor::DataType::{U16, U32, U8};
             check_accessor(&a, "indices", &[U8, U16, U32], Dimensions::Scalar).map_err(|msg| at(file, loc, msg))?;
-            let read = reader.read_indices().ok_or_else(|| {
-                at(file, loc, format!("indices (accessor {}) cannot be read: it lies outside its buffer", a.index()))
-            })?;
+            let read =
+                reader.read_indices().ok_or_else(|| at(file, loc, format!("indices (accessor {}) cannot be read: it lies outside its buffer", a.index())))?;
             let indices: Vec<usize> = read.into_u32().map(|i| i as usize).collect();
             if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i >= vertex_count) {
                 let msg = format!("index {k} is {i}, but the primitive has {vertex_count} vertices");

@@ -52,8 +52,7 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
     check_glb_header(&bytes, path)?;
     // Parsed without validation first, so that an unsupported required extension is reported
     // as such (the crate's validator would only say "unsupported").
-    let ::gltf::Gltf { document, blob } =
-        ::gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
+    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
     drop(bytes);
     extensions::check(&document, path, &mut scene.stats)?;
     let json = document.into_json();
@@ -116,9 +115,7 @@ fn parse_error(file: &Path, e: ::gltf::Error) -> anyhow::Error {
             };
             at(file, path.to_string(), format!("invalid glTF: {first}{more}"))
         }
-        ::gltf::Error::Deserialize(e) => {
-            at(file, format!("line {}, column {}", e.line(), e.column()), format!("not valid glTF JSON: {e}"))
-        }
+        ::gltf::Error::Deserialize(e) => at(file, format!("line {}, column {}", e.line(), e.column()), format!("not valid glTF JSON: {e}")),
         ::gltf::Error::Binary(e) => InputError::new(file, None, format!("not a valid GLB container: {e}")).into(),
         e => InputError::new(file, None, format!("cannot read glTF: {e}")).into(),
     }

@@ -8,17 +8,16 @@
 //! (default: best of 3 for every whitted, path and trace variant). Without the cache switch,
 //! Mesa's on-disk shader cache answers every run after the first.
 
-
 use anyhow::Result;
-use std::time::Instant;
 use ash::vk;
+use std::time::Instant;
 use vkrt::gpu::commands::submit_and_wait;
 use vkrt::gpu::{Buffer, Context, ContextOptions, MemoryLocation, TexelFormat};
-use vkrt_bench::args;
-use vkrt::integrator::frame::INTEGRATOR_BINDINGS;
 use vkrt::gpu_abi::constants::*;
+use vkrt::integrator::frame::INTEGRATOR_BINDINGS;
 use vkrt::integrator::path::params::PATH_BINDINGS;
 use vkrt::pipeline::{shaders, BindingKind, ComputePipeline};
+use vkrt_bench::args;
 
 fn main() -> std::process::ExitCode {
     vkrt::error::exit_code(run())
@@ -34,9 +33,7 @@ fn run() -> Result<()> {
     };
     // Every binding any tracing shader declares, of the kind the integrators bind (the rays and
     // hits of trace.comp are storage buffers); unused ones cost nothing.
-    let kind_of = |b: u32| {
-        INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).find(|e| e.0 == b).map_or(BindingKind::Storage, |e| e.1)
-    };
+    let kind_of = |b: u32| INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).find(|e| e.0 == b).map_or(BindingKind::Storage, |e| e.1);
     let bindings: Vec<(u32, BindingKind)> = (0..=BINDING_UVS).chain([BINDING_TANGENTS]).map(|b| (b, kind_of(b))).collect();
     let ctx = Context::new(&ContextOptions::from_env())?;
     println!("device: {}\n", ctx.info.name);
@@ -64,11 +61,7 @@ fn run() -> Result<()> {
     let mut best = vec![f64::INFINITY; names.len()];
     for _ in 0..repeat {
         for (i, name) in names.iter().enumerate() {
-            let spv = shaders::ALL
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, s)| *s)
-                .ok_or_else(|| anyhow::anyhow!("no shader variant '{name}'"))?;
+            let spv = shaders::ALL.iter().find(|(n, _)| n == name).map(|(_, s)| *s).ok_or_else(|| anyhow::anyhow!("no shader variant '{name}'"))?;
             let t = Instant::now();
             let pipeline = ComputePipeline::new(&ctx, name, spv, &bindings, std::mem::size_of::<vkrt::gpu_abi::GpuPush>() as u32)?;
             for (b, view, buf) in &buffers {

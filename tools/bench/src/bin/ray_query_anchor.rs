@@ -115,8 +115,8 @@ impl Device {
     fn new() -> Result<Self> {
         let entry = unsafe { ash::Entry::load() }.context("loading the Vulkan loader")?;
         let app = vk::ApplicationInfo::default().api_version(vk::API_VERSION_1_2);
-        let instance = unsafe { entry.create_instance(&vk::InstanceCreateInfo::default().application_info(&app), None) }
-            .context("creating a Vulkan instance")?;
+        let instance =
+            unsafe { entry.create_instance(&vk::InstanceCreateInfo::default().application_info(&app), None) }.context("creating a Vulkan instance")?;
         let wanted = std::env::var("VKRT_DEVICE").ok().map(|s| s.to_ascii_lowercase());
         let needed = [ash::khr::acceleration_structure::NAME, ash::khr::ray_query::NAME, ash::khr::deferred_host_operations::NAME];
         let mut chosen = None;
@@ -207,7 +207,12 @@ impl Device {
 
     /// Builds one acceleration structure of `kind` over `geometry` (`count` primitives); returns
     /// it, its storage and the build's seconds.
-    fn build(&self, kind: vk::AccelerationStructureTypeKHR, geometry: vk::AccelerationStructureGeometryKHR, count: u32) -> Result<(vk::AccelerationStructureKHR, Buffer, f64)> {
+    fn build(
+        &self,
+        kind: vk::AccelerationStructureTypeKHR,
+        geometry: vk::AccelerationStructureGeometryKHR,
+        count: u32,
+    ) -> Result<(vk::AccelerationStructureKHR, Buffer, f64)> {
         let geometries = [geometry];
         let mut info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
             .ty(kind)
@@ -298,20 +303,24 @@ fn run() -> Result<()> {
         .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })
         .flags(vk::GeometryFlagsKHR::OPAQUE);
     let (blas, blas_storage, blas_s) = dev.build(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL, geometry, tri_count)?;
-    let blas_address = unsafe {
-        dev.accel.get_acceleration_structure_device_address(&vk::AccelerationStructureDeviceAddressInfoKHR::default().acceleration_structure(blas))
-    };
+    let blas_address =
+        unsafe { dev.accel.get_acceleration_structure_device_address(&vk::AccelerationStructureDeviceAddressInfoKHR::default().acceleration_structure(blas)) };
     let instance = vk::AccelerationStructureInstanceKHR {
         transform: vk::TransformMatrixKHR { matrix: [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0] },
         instance_custom_index_and_mask: vk::Packed24_8::new(0, 0xFF),
-        instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(0, vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE.as_raw() as u8),
+        instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(
+            0,
+            vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE.as_raw() as u8,
+        ),
         acceleration_structure_reference: vk::AccelerationStructureReferenceKHR { device_handle: blas_address },
     };
-    let instances = dev.buffer(std::mem::size_of::<vk::AccelerationStructureInstanceKHR>() as u64, vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR)?;
+    let instances =
+        dev.buffer(std::mem::size_of::<vk::AccelerationStructureInstanceKHR>() as u64, vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR)?;
     dev.write(&instances, 0, &[instance]);
-    let top = vk::AccelerationStructureGeometryKHR::default().geometry_type(vk::GeometryTypeKHR::INSTANCES).geometry(vk::AccelerationStructureGeometryDataKHR {
-        instances: vk::AccelerationStructureGeometryInstancesDataKHR::default().data(vk::DeviceOrHostAddressConstKHR { device_address: instances.address }),
-    });
+    let top =
+        vk::AccelerationStructureGeometryKHR::default().geometry_type(vk::GeometryTypeKHR::INSTANCES).geometry(vk::AccelerationStructureGeometryDataKHR {
+            instances: vk::AccelerationStructureGeometryInstancesDataKHR::default().data(vk::DeviceOrHostAddressConstKHR { device_address: instances.address }),
+        });
     let (tlas, tlas_storage, tlas_s) = dev.build(vk::AccelerationStructureTypeKHR::TOP_LEVEL, top, 1)?;
 
     let n = rays.len();
@@ -319,19 +328,33 @@ fn run() -> Result<()> {
     let hit_buf = dev.buffer((n.max(WARM_UP_RAYS) * 16) as u64, vk::BufferUsageFlags::STORAGE_BUFFER)?;
 
     let bindings = [
-        vk::DescriptorSetLayoutBinding::default().binding(0).descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR).descriptor_count(1).stage_flags(vk::ShaderStageFlags::COMPUTE),
-        vk::DescriptorSetLayoutBinding::default().binding(1).descriptor_type(vk::DescriptorType::STORAGE_BUFFER).descriptor_count(1).stage_flags(vk::ShaderStageFlags::COMPUTE),
-        vk::DescriptorSetLayoutBinding::default().binding(2).descriptor_type(vk::DescriptorType::STORAGE_BUFFER).descriptor_count(1).stage_flags(vk::ShaderStageFlags::COMPUTE),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(0)
+            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::COMPUTE),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(1)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::COMPUTE),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(2)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::COMPUTE),
     ];
     let set_layout = unsafe { d.create_descriptor_set_layout(&vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings), None) }?;
     let push_range = [vk::PushConstantRange::default().stage_flags(vk::ShaderStageFlags::COMPUTE).size(8)];
     let set_layouts = [set_layout];
-    let layout = unsafe { d.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts).push_constant_ranges(&push_range), None) }?;
+    let layout =
+        unsafe { d.create_pipeline_layout(&vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts).push_constant_ranges(&push_range), None) }?;
     let code = compile_shader()?;
     let module = unsafe { d.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None) }?;
     let stage = vk::PipelineShaderStageCreateInfo::default().stage(vk::ShaderStageFlags::COMPUTE).module(module).name(c"main");
-    let pipeline = unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &[vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)], None) }
-        .map_err(|(_, e)| anyhow!("creating the ray-query pipeline: {e}"))?[0];
+    let pipeline =
+        unsafe { d.create_compute_pipelines(vk::PipelineCache::null(), &[vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout)], None) }
+            .map_err(|(_, e)| anyhow!("creating the ray-query pipeline: {e}"))?[0];
     let sizes = [
         vk::DescriptorPoolSize::default().ty(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR).descriptor_count(1),
         vk::DescriptorPoolSize::default().ty(vk::DescriptorType::STORAGE_BUFFER).descriptor_count(2),
@@ -343,7 +366,12 @@ fn run() -> Result<()> {
     let ray_info = [vk::DescriptorBufferInfo::default().buffer(ray_buf.buffer).range(vk::WHOLE_SIZE)];
     let hit_info = [vk::DescriptorBufferInfo::default().buffer(hit_buf.buffer).range(vk::WHOLE_SIZE)];
     let writes = [
-        vk::WriteDescriptorSet::default().dst_set(set).dst_binding(0).descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR).descriptor_count(1).push_next(&mut as_write),
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .descriptor_count(1)
+            .push_next(&mut as_write),
         vk::WriteDescriptorSet::default().dst_set(set).dst_binding(1).descriptor_type(vk::DescriptorType::STORAGE_BUFFER).buffer_info(&ray_info),
         vk::WriteDescriptorSet::default().dst_set(set).dst_binding(2).descriptor_type(vk::DescriptorType::STORAGE_BUFFER).buffer_info(&hit_info),
     ];

@@ -6,7 +6,6 @@
 //! Usage: cargo run --release -p vkrt-bench --bin vkrt-robust-cost -- [SCENE...]
 //! (default scenes: scenes/bench/conference.yaml scenes/bench/sponza.yaml)
 
-
 use anyhow::Result;
 use glam::Vec3;
 use std::time::Instant;
@@ -62,10 +61,8 @@ fn run() -> Result<()> {
             let world: Vec<Vec3> = mesh.positions.iter().map(|&p| p * scale + offset).collect();
             let mut targets = world.clone();
             targets.extend(mesh.edges().iter().map(|&(a, b)| (world[a as usize] + world[b as usize]) * 0.5));
-            let set: Vec<GpuRay> = targets
-                .iter()
-                .map(|&t| GpuRay { origin: centre.to_array(), tmin: 0.0, direction: (t - centre).to_array(), tmax: f32::INFINITY })
-                .collect();
+            let set: Vec<GpuRay> =
+                targets.iter().map(|&t| GpuRay { origin: centre.to_array(), tmin: 0.0, direction: (t - centre).to_array(), tmax: f32::INFINITY }).collect();
             let gpu = GpuBvh::upload(&ctx, &build_bvh(&scene, &PrepareOptions::default())?.0)?;
             let leaks = |q: &RayQuery| -> Result<usize> { Ok(q.trace(&set, false)?.iter().filter(|h| h.prim == PRIM_NONE).count()) };
             let robust = leaks(&RayQuery::new(&ctx, &gpu)?)?;

@@ -5,7 +5,6 @@
 //! Usage: cargo run --release -p vkrt-bench --bin vkrt-trace-knobs -- [ROUNDS] [SCENE...]
 //! (default: 3 rounds on scenes/bench/conference.yaml)
 
-
 use anyhow::Result;
 use std::time::Instant;
 use vkrt::accel::{FlatBvh, LayoutKind};
@@ -52,10 +51,7 @@ fn run() -> Result<()> {
                     let hits = q.trace(set, false)?;
                     best[i] = best[i].min(t.elapsed().as_secs_f64());
                     let n = hits.len().max(1) as f64;
-                    counters[i] = (
-                        hits.iter().map(|h| h.nodes_visited as f64).sum::<f64>() / n,
-                        hits.iter().map(|h| h.tris_tested as f64).sum::<f64>() / n,
-                    );
+                    counters[i] = (hits.iter().map(|h| h.nodes_visited as f64).sum::<f64>() / n, hits.iter().map(|h| h.tris_tested as f64).sum::<f64>() / n);
                 }
             }
             for (i, (layout, leaf, _)) in configs.iter().enumerate() {
