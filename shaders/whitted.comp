@@ -77,7 +77,7 @@ vec3 blinn_phong(GpuMaterial m, Surface s, vec3 view, vec3 l, vec3 e) {
 // samples share one loop (index i < light_count: a light; after that, emitter sample
 // i - light_count), so the shadow query is written once: lavapipe compiles every inlined copy
 // of the traversal loop separately, and each copy costs a second or so of pipeline creation
-// time (tools/pipeline_time.rs). Contributions are added in the same order as two loops would.
+// time (tools/bench/src/bin/pipeline_time.rs). Contributions are added in the same order as two loops would.
 // Light kinds and emitters the scene lacks are compiled out by the specialization constants
 // (features.glsl): their counts are then treated as 0 and their code is never reached.
 vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {

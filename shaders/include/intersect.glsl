@@ -191,7 +191,7 @@ bool intersect_triangle(RayPre r, vec3 v0, vec3 v1, vec3 v2, float tmax, out flo
 
 #else
 // PLAIN_INTERSECT: the textbook tests, kept only to measure what robustness costs (the
-// `trace_plain` variant, tools/robust_cost.rs). Not used for rendering: the slab test has no
+// `trace_plain` variant, tools/bench/src/bin/robust_cost.rs). Not used for rendering: the slab test has no
 // padding and divides 0 by 0 for axis-parallel rays on a slab plane; Möller & Trumbore 1997
 // with an epsilon on the determinant lets rays slip between triangles that share an edge.
 bool intersect_box(RayPre r, vec3 bmin, vec3 bmax, float tmax, out float t_enter) {
