@@ -1,8 +1,11 @@
-// Ray-box and ray-triangle tests. CPU twin: host/accel/intersect.rs (same names).
+// Ray-box and ray-triangle tests. CPU twin: host/accel/intersect.rs (same names). The correctly
+// rounded division they use is division.glsl's; the benchmark's textbook tests (PLAIN_INTERSECT)
+// are intersect_plain.glsl's.
 #ifndef VKRT_INTERSECT_GLSL
 #define VKRT_INTERSECT_GLSL
 
 #include "constants.glsl"
+#include "division.glsl"
 
 // Ize 2013, "Robust BVH ray traversal": the far slab distance times 1 + 2*gamma(3) makes the
 // float slab test conservative. Value: accel::intersect::SLAB_FAR_PAD.
@@ -19,79 +22,6 @@ struct RayPre {
     int kz;
     vec3 shear;
 };
-
-// p + e == a * b exactly (per component), with round-to-nearest products and sums only
-// (Dekker 1971, "A floating-point technique for extending the available precision",
-// Veltkamp's split). Vulkan rounds OpFMul and OpFAdd correctly but lets fma() be a product
-// then a sum, so an exact residual cannot rely on it; `precise` keeps these from being fused.
-void two_product(vec3 a, vec3 b, out vec3 p, out vec3 e) {
-    precise vec3 ca = 4097.0 * a;
-    precise vec3 ah = ca - (ca - a);
-    precise vec3 al = a - ah;
-    precise vec3 cb = 4097.0 * b;
-    precise vec3 bh = cb - (cb - b);
-    precise vec3 bl = b - bh;
-    precise vec3 pp = a * b;
-    precise vec3 ee = ((ah * bh - pp) + ah * bl + al * bh) + al * bl;
-    p = pp;
-    e = ee;
-}
-
-// a - q b, exact for q within a few ulps of a / b (the residual is then representable and
-// a - p is exact by Sterbenz's lemma).
-vec3 residual(vec3 a, vec3 q, vec3 b) {
-    vec3 p, e;
-    two_product(q, b, p, e);
-    precise vec3 r = (a - p) - e;
-    return r;
-}
-
-// Where the device's division may be off (SPEC_CORRECT_DIVISION: every device but lavapipe).
-layout(constant_id = SPEC_CORRECT_DIVISION) const bool CORRECT_DIVISION = true;
-
-// a / b correctly rounded, as the CPU twin divides. Vulkan lets a division be 2.5 ulp off, and
-// NVIDIA's is: on an H200 the GPU's t and node counts then differed from the twin's, and Ize's
-// padded slab test (below) assumes a rounded 1/d. `correct_quotient` takes the device's
-// q ~ a / b and y ~ 1 / b: one residual correction q + r y (r exact: `residual`) brings q
-// within a little over half an ulp (Markstein 1990, "Computation of elementary functions on
-// the IBM RISC System/6000 processor", IBM J. Res. Dev. 34(1)), and the exact residual of that
-// says whether the neighbour on its side is nearer: a / b is never exactly halfway, but can be
-// within 2^-25 ulp of it (1 / b for b just under a power of two), where a second correction
-// alone still rounds the wrong way. Checked bit for bit against the CPU by tests/division.rs,
-// on lavapipe from quotients put 2 ulps off. Quotients, reciprocals and dividends outside
-// [1e-18, 1e18] (zero, infinite, NaN, or where the split's low products would fall below the
-// normal range, which a device may flush to zero) keep the device's own. Three quotients at a
-// time: the ray setup's six are two calls. `div_rn` puts the correction in a block on the
-// constant, not after an early return, which lavapipe would translate into every inlined BVH
-// walk before dropping it (docs/experiments/pipeline-creation-time.md).
-vec3 correct_quotient(vec3 a, vec3 b, vec3 q, vec3 y) {
-    bvec3 ordinary = bvec3(uvec3(greaterThanEqual(abs(q), vec3(1e-18))) & uvec3(lessThanEqual(abs(q), vec3(1e18)))
-        & uvec3(greaterThanEqual(abs(y), vec3(1e-18))) & uvec3(lessThanEqual(abs(y), vec3(1e18)))
-        & uvec3(greaterThanEqual(abs(a), vec3(1e-18))));
-    precise vec3 q1 = q + residual(a, q, b) * y;
-    precise vec3 r1 = residual(a, q1, b);
-    // The exact quotient q1 + r1 / b lies farther from zero than q1 when r1 / b has q1's sign;
-    // q2 is q1's neighbour on that side, and it is the rounded quotient if the exact one is
-    // past halfway to it: |r1| > |b| |q2 - q1| / 2 (exact: the gap is a power of two).
-    bvec3 outward = equal(equal(greaterThan(r1, vec3(0.0)), greaterThan(b, vec3(0.0))), greaterThan(q1, vec3(0.0)));
-    uvec3 bits = floatBitsToUint(q1);
-    precise vec3 q2 = uintBitsToFloat(mix(bits - 1u, bits + 1u, outward));
-    precise vec3 half_gap = abs(b) * abs(q2 - q1) * 0.5;
-    return mix(q, mix(q1, q2, greaterThan(abs(r1), half_gap)), ordinary);
-}
-
-vec3 div_rn(vec3 a, vec3 b) {
-    precise vec3 q = a / b;
-    if (CORRECT_DIVISION) {
-        precise vec3 y = 1.0 / b;
-        q = correct_quotient(a, b, q, y);
-    }
-    return q;
-}
-
-float div_rn(float a, float b) {
-    return div_rn(vec3(a), vec3(b)).x;
-}
 
 // 1/d, with 0 mapped to the largest float of the same sign: an origin on a slab plane then
 // gives 0 * MAX = 0 instead of 0 * inf = NaN, and the slab counts as entered.
@@ -190,39 +120,7 @@ bool intersect_triangle(RayPre r, vec3 v0, vec3 v1, vec3 v2, float tmax, out flo
 }
 
 #else
-// PLAIN_INTERSECT: the textbook tests, kept only to measure what robustness costs (the
-// `trace_plain` variant, tools/bench/src/bin/robust_cost.rs). Not used for rendering: the slab test has no
-// padding and divides 0 by 0 for axis-parallel rays on a slab plane; Möller & Trumbore 1997
-// with an epsilon on the determinant lets rays slip between triangles that share an edge.
-bool intersect_box(RayPre r, vec3 bmin, vec3 bmax, float tmax, out float t_enter) {
-    vec3 t0 = (bmin - r.origin) * r.inv_dir;
-    vec3 t1 = (bmax - r.origin) * r.inv_dir;
-    vec3 near = min(t0, t1);
-    vec3 far = max(t0, t1);
-    t_enter = max(max(max(near.x, near.y), near.z), r.tmin);
-    float t_exit = min(min(min(far.x, far.y), far.z), tmax);
-    return t_enter <= t_exit;
-}
-
-bool intersect_triangle(RayPre r, vec3 v0, vec3 v1, vec3 v2, float tmax, out float t, out float u, out float v) {
-    const float EPSILON = 1e-8;
-    vec3 e1 = v1 - v0;
-    vec3 e2 = v2 - v0;
-    vec3 p = cross(r.dir, e2);
-    float det = dot(e1, p);
-    t = 0.0; u = 0.0; v = 0.0;
-    if (abs(det) < EPSILON) return false;
-    float inv_det = 1.0 / det;
-    vec3 s = r.origin - v0;
-    u = dot(s, p) * inv_det;
-    if (u < 0.0 || u > 1.0) return false;
-    vec3 q = cross(s, e1);
-    v = dot(r.dir, q) * inv_det;
-    if (v < 0.0 || u + v > 1.0) return false;
-    t = dot(e2, q) * inv_det;
-    return t > r.tmin && t < tmax;
-}
-
+#include "intersect_plain.glsl"
 #endif
 
 #endif

@@ -1,5 +1,5 @@
 #version 460
-// Runs intersect.glsl's div_rn so tests/division.rs can hold it to the CPU's IEEE division:
+// Runs division.glsl's div_rn so tests/division.rs can hold it to the CPU's IEEE division:
 // element i holds (a, b) in x and y; the probe writes div_rn(a, b), the device's own a / b,
 // and `correct_quotient` started from a quotient and a reciprocal put 2 ulps off either way
 // (a device whose division is off, emulated on one whose is not). The test sets
@@ -8,7 +8,7 @@
 
 #include "constants.glsl"
 #include "gpu_abi.glsl"
-#include "intersect.glsl"
+#include "division.glsl"
 
 // Workgroup size: spec constants set per device; ids only, no defaults (host/gpu/workgroups.rs).
 layout(local_size_x_id = SPEC_WORKGROUP_1D) in;
