@@ -6,10 +6,14 @@
 # driver is Mesa's lavapipe. We want Mesa 25 from Debian's bookworm-backports suite rather than
 # Debian 12's stock Mesa 22.3: it ran our ray-triangle kernel 12x faster (306 vs 26 M tests/s).
 #
-# Usage: tools/ensure-deps.sh [--with-validation] [--with-slurm]
+# Usage: tools/ensure-deps.sh [--with-validation] [--with-slurm] [--with-swiftshader]
 #   --with-validation  also install the Khronos validation layers (the tests turn them on when present)
 #   --with-slurm       also install Slurm and MUNGE (slurm-wlm, munge): tests/slurm.rs starts a
 #                      one-node cluster of its own with them (no systemd services are used)
+#   --with-swiftshader also unpack SwiftShader, a second CPU Vulkan implementation, from Debian's
+#                      chromium-common package (downloaded, not installed: no Chromium) into
+#                      /opt/vkrt-swiftshader, with an ICD file there that names it; it stays
+#                      invisible until VK_ADD_DRIVER_FILES=/opt/vkrt-swiftshader/vk_swiftshader_icd.json
 #
 # Prints what it installs; prints nothing more than one line when everything is already there.
 set -euo pipefail
@@ -18,11 +22,13 @@ export PATH="$PATH:/usr/local/sbin:/usr/sbin:/sbin"
 
 want_validation=0
 want_slurm=0
+want_swiftshader=0
 for arg in "$@"; do
   case "$arg" in
     --with-validation) want_validation=1 ;;
     --with-slurm) want_slurm=1 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    --with-swiftshader) want_swiftshader=1 ;;
+    -h|--help) awk 'NR == 1 { next } /^#/ { sub(/^# ?/, ""); print; next } { exit }' "$0"; exit 0 ;;
     *) echo "ensure-deps: unknown argument '$arg'" >&2; exit 2 ;;
   esac
 done
@@ -54,8 +60,39 @@ if [ "$want_slurm" = 1 ]; then
   { have_cmd munged && have_cmd mungekey; } || missing+=(munge)
 fi
 
+# SwiftShader (--with-swiftshader): Chromium's Vulkan implementation, from Debian's
+# chromium-common package, unpacked beside nothing else. Its ICD file's library_path is made
+# absolute, so VK_ADD_DRIVER_FILES can name it from anywhere.
+SWIFTSHADER_DIR=/opt/vkrt-swiftshader
+ensure_swiftshader() {
+  [ "$want_swiftshader" = 1 ] || return 0
+  local icd="$SWIFTSHADER_DIR/vk_swiftshader_icd.json"
+  if [ -f "$icd" ] && [ -f "$SWIFTSHADER_DIR/libvk_swiftshader.so" ]; then
+    echo "ensure-deps: SwiftShader is unpacked ($icd)"
+    return 0
+  fi
+  local sudo="" tmp
+  if [ "$(id -u)" != 0 ]; then
+    if have_cmd sudo && sudo -n true 2>/dev/null; then sudo="sudo -n"; else
+      echo "ensure-deps: need root to unpack SwiftShader into $SWIFTSHADER_DIR; run this script as root" >&2
+      return 1
+    fi
+  fi
+  tmp=$(mktemp -d)
+  echo "ensure-deps: unpacking SwiftShader from Debian's chromium-common into $SWIFTSHADER_DIR"
+  (cd "$tmp" && { apt-get download -qq chromium-common 2>/dev/null || { $sudo apt-get update -qq && apt-get download -qq chromium-common; }; }) >/dev/null
+  dpkg-deb -x "$tmp"/chromium-common_*.deb "$tmp/x"
+  $sudo mkdir -p "$SWIFTSHADER_DIR"
+  $sudo cp "$tmp/x/usr/lib/chromium/libvk_swiftshader.so" "$SWIFTSHADER_DIR/"
+  sed 's|"library_path": *"[^"]*"|"library_path": "'"$SWIFTSHADER_DIR"'/libvk_swiftshader.so"|' \
+    "$tmp/x/usr/lib/chromium/vk_swiftshader_icd.json" | $sudo tee "$icd" >/dev/null
+  rm -rf "$tmp"
+  grep -q "$SWIFTSHADER_DIR/libvk_swiftshader.so" "$icd" || { echo "ensure-deps: SwiftShader's ICD file was not written" >&2; return 1; }
+}
+
 if [ ${#missing[@]} -eq 0 ] && [ "$need_mesa" = 0 ]; then
   echo "ensure-deps: Vulkan loader, Mesa $(mesa_major) lavapipe and glslang are present$( [ $want_slurm = 1 ] && echo ", and Slurm and MUNGE" )"
+  ensure_swiftshader
   exit 0
 fi
 
@@ -95,3 +132,4 @@ if [ "$need_mesa" = 1 ]; then
 fi
 have_lavapipe || { echo "ensure-deps: mesa-vulkan-drivers >= $MIN_MESA_MAJOR did not install" >&2; exit 1; }
 echo "ensure-deps: done (Mesa $(mesa_major) lavapipe, $(glslangValidator --version 2>/dev/null | head -1))"
+ensure_swiftshader

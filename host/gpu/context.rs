@@ -222,7 +222,13 @@ fn effective_access(own: HostAccess, forced: Option<HostAccess>) -> HostAccess {
     }
 }
 
-/// Picks a device from `infos`: by index or name part if `wanted` is given, else the default.
+/// Picks a device from `infos`: by index or name part if `wanted` is given, else the default:
+/// the kind first ([`DeviceInfo::default_rank`]: a discrete GPU before an integrated one before
+/// a CPU), then among devices of one kind the one that holds the largest scenes (the most
+/// texel-buffer elements, where vkrt keeps its BVH and shading arrays), then the first listed. So
+/// with both of Debian's CPU implementations installed the default is lavapipe (2^27 texels)
+/// over SwiftShader (2^16: no scene of more than a few thousand triangles fits), which
+/// `--device swiftshader` still picks by name.
 pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize> {
     let usable: Vec<&DeviceInfo> = infos.iter().filter(|d| d.usable).collect();
     if usable.is_empty() {
@@ -243,7 +249,11 @@ pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize
                 None => bail!("no Vulkan device matches '{w}'; devices: {}", names.join(", ")),
             }
         }
-        None => Ok(usable.iter().min_by_key(|d| (d.default_rank(), d.index)).map(|d| d.index).unwrap_or(0)),
+        None => Ok(usable
+            .iter()
+            .min_by_key(|d| (d.default_rank(), std::cmp::Reverse(d.max_texel_buffer_elements), d.index))
+            .map(|d| d.index)
+            .unwrap_or(0)),
     }
 }
 
@@ -436,5 +446,47 @@ impl Drop for Context {
             }
             self.instance.destroy_instance(None);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn device(index: usize, name: &str, device_type: vk::PhysicalDeviceType, texels: u32) -> DeviceInfo {
+        DeviceInfo {
+            index,
+            name: name.into(),
+            device_type,
+            api_version: vk::API_VERSION_1_3,
+            driver_name: String::new(),
+            driver_info: String::new(),
+            driver_version: 0,
+            driver_id: vk::DriverId::default(),
+            max_storage_buffer_range: 1 << 27,
+            max_texel_buffer_elements: texels,
+            max_workgroup_size: [256, 256, 64],
+            max_workgroup_invocations: 256,
+            subgroup_size: 4,
+            max_push_constants_size: 128,
+            device_local_bytes: 0,
+            host_access: HostAccess::Mapped,
+            divides_exactly: false,
+            usable: true,
+        }
+    }
+
+    /// SwiftShader listed first (as the loader lists it) does not win the default over lavapipe;
+    /// a GPU wins over both; a name picks any of them.
+    #[test]
+    fn the_default_is_the_gpu_else_the_cpu_device_that_holds_the_largest_scenes() {
+        let cpu = vk::PhysicalDeviceType::CPU;
+        let both = [device(0, "SwiftShader Device (Subzero)", cpu, 1 << 16), device(1, "llvmpipe (LLVM 15.0.6, 256 bits)", cpu, 1 << 27)];
+        assert_eq!(choose_device(&both, None).unwrap(), 1);
+        assert_eq!(choose_device(&both, Some("swiftshader")).unwrap(), 0);
+        let with_gpu = [both[0].clone(), both[1].clone(), device(2, "NVIDIA H100", vk::PhysicalDeviceType::DISCRETE_GPU, 1 << 27)];
+        assert_eq!(choose_device(&with_gpu, None).unwrap(), 2);
+        let same = [device(0, "a", cpu, 1 << 20), device(1, "b", cpu, 1 << 20)];
+        assert_eq!(choose_device(&same, None).unwrap(), 0, "a tie goes to the first listed");
     }
 }
