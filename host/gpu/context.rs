@@ -249,11 +249,7 @@ pub fn choose_device(infos: &[DeviceInfo], wanted: Option<&str>) -> Result<usize
                 None => bail!("no Vulkan device matches '{w}'; devices: {}", names.join(", ")),
             }
         }
-        None => Ok(usable
-            .iter()
-            .min_by_key(|d| (d.default_rank(), std::cmp::Reverse(d.max_texel_buffer_elements), d.index))
-            .map(|d| d.index)
-            .unwrap_or(0)),
+        None => Ok(usable.iter().min_by_key(|d| (d.default_rank(), std::cmp::Reverse(d.max_texel_buffer_elements), d.index)).map(|d| d.index).unwrap_or(0)),
     }
 }
 
