@@ -7,6 +7,16 @@ use super::Context;
 use anyhow::{bail, Result};
 use ash::vk;
 
+/// `bytes` as the unit that keeps a whole number in front: `256 KiB`, `6 MiB` (a limit of
+/// 65536 texels of 4 bytes read '0 MiB' before).
+fn size_text(bytes: u64) -> String {
+    match bytes {
+        b if b >= 10 << 20 => format!("{} MiB", b >> 20),
+        b if b >= 10 << 10 => format!("{} KiB", b >> 10),
+        b => format!("{b} bytes"),
+    }
+}
+
 /// A device buffer and the texel view the shaders read it through.
 pub struct TexelArray<'a> {
     // The view first: fields drop in order, and the view must go before its buffer.
@@ -24,15 +34,29 @@ impl<'a> TexelArray<'a> {
         let limit = ctx.info.max_texel_buffer_elements as u64 * format.bytes();
         if bytes > limit {
             bail!(
-                "the scene's {name} take {} MiB, over this device's {} MiB texel-buffer limit ({} texels of {} bytes)",
-                bytes >> 20,
-                limit >> 20,
+                "the scene's {name} take {} texels ({}), over this device's texel-buffer limit of {} texels of {} bytes ({}); \
+                 {} can render smaller scenes only",
+                bytes / format.bytes(),
+                size_text(bytes),
                 ctx.info.max_texel_buffer_elements,
-                format.bytes()
+                format.bytes(),
+                size_text(limit),
+                ctx.info.name
             );
         }
         let usage = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
         let buffer = if data.is_empty() { Buffer::with_data(ctx, name, &[T::zeroed()], usage)? } else { Buffer::with_data(ctx, name, data, usage)? };
         Ok(Self { view: buffer.texel_view(format)?, buffer })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn sizes_read_in_a_unit_that_keeps_them_whole() {
+        assert_eq!(super::size_text(256 << 10), "256 KiB");
+        assert_eq!(super::size_text(6 << 20), "6144 KiB");
+        assert_eq!(super::size_text(64 << 20), "64 MiB");
+        assert_eq!(super::size_text(100), "100 bytes");
     }
 }
