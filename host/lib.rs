@@ -8,6 +8,7 @@
 
 pub mod accel;
 pub mod bvh;
+pub mod bytes;
 pub mod cli;
 pub mod error;
 pub mod files;

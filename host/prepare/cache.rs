@@ -21,6 +21,7 @@
 use super::features::{self, Features};
 use super::{PrepareOptions, PrepareTimes, PreparedScene, SceneArrays, SceneInfo};
 use crate::accel::LayoutKind;
+use crate::bytes::{ByteReader, ByteWriter};
 use crate::files::{self, Bound};
 use crate::geom::Aabb;
 use crate::gpu_abi::GpuPush;
@@ -318,7 +319,7 @@ impl CachedScene {
             bail!("corrupt: its checksum does not match its contents");
         }
         let meta_bytes = map.get(HEADER_BYTES..HEADER_BYTES + meta_len).context("truncated metadata")?;
-        let meta = Reader { bytes: meta_bytes, at: 0 }.meta().context("reading its metadata")?;
+        let meta = Reader(ByteReader::new(meta_bytes)).meta().context("reading its metadata")?;
         if meta.version != env!("CARGO_PKG_VERSION") {
             bail!("made by vkrt {}", meta.version);
         }
@@ -443,7 +444,7 @@ fn evict(cache: &Cache, keep: &Path) {
 // The metadata's encoding: fixed-width little-endian numbers, strings as a length and UTF-8.
 
 fn encode(m: &Meta) -> Vec<u8> {
-    let mut w = Writer(Vec::new());
+    let mut w = ByteWriter::default();
     w.str(&m.version);
     w.u64(m.inputs.len() as u64);
     for (p, h) in &m.inputs {
@@ -496,40 +497,33 @@ fn encode(m: &Meta) -> Vec<u8> {
         w.str(why);
     }
     w.str(m.layout.name());
-    w.bytes(bytemuck::bytes_of(&m.push));
-    w.0.extend_from_slice(&m.total_weight.to_le_bytes());
+    w.bytes_u64(bytemuck::bytes_of(&m.push));
+    w.f64(m.total_weight);
     w.strs(&m.downsampled);
     w.u64(m.arrays.len() as u64);
     for (o, l) in &m.arrays {
         w.u64(*o);
         w.u64(*l);
     }
-    w.0
+    w.into_inner()
 }
 
-struct Writer(Vec<u8>);
+/// The metadata's own field kinds over the shared little-endian writer.
+trait MetaWriter {
+    fn vec3(&mut self, v: Vec3);
+    fn str(&mut self, s: &str);
+    fn strs(&mut self, v: &[String]);
+    fn camera(&mut self, c: &Camera);
+}
 
-impl Writer {
-    fn u32(&mut self, v: u32) {
-        self.0.extend_from_slice(&v.to_le_bytes());
-    }
-    fn u64(&mut self, v: u64) {
-        self.0.extend_from_slice(&v.to_le_bytes());
-    }
-    fn f32(&mut self, v: f32) {
-        self.0.extend_from_slice(&v.to_le_bytes());
-    }
+impl MetaWriter for ByteWriter {
     fn vec3(&mut self, v: Vec3) {
         for x in v.to_array() {
             self.f32(x);
         }
     }
-    fn bytes(&mut self, b: &[u8]) {
-        self.u64(b.len() as u64);
-        self.0.extend_from_slice(b);
-    }
     fn str(&mut self, s: &str) {
-        self.bytes(s.as_bytes());
+        self.bytes_u64(s.as_bytes());
     }
     fn strs(&mut self, v: &[String]) {
         self.u64(v.len() as u64);
@@ -545,88 +539,58 @@ impl Writer {
     }
 }
 
-struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
-}
+/// Reads the metadata ([`encode`]'s fields) with the shared little-endian reader.
+struct Reader<'a>(ByteReader<'a>);
 
 impl Reader<'_> {
-    fn take(&mut self, n: usize) -> Result<&[u8]> {
-        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len()).context("metadata cut short")?;
-        let out = &self.bytes[self.at..end];
-        self.at = end;
-        Ok(out)
+    fn vec3(&mut self, field: &str) -> Result<Vec3> {
+        Ok(Vec3::new(self.0.f32(field)?, self.0.f32(field)?, self.0.f32(field)?))
     }
-    fn u32(&mut self) -> Result<u32> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into()?))
+    fn str(&mut self, field: &str) -> Result<String> {
+        self.0.str_u64(field)
     }
-    fn u64(&mut self) -> Result<u64> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into()?))
+    fn strs(&mut self, field: &str) -> Result<Vec<String>> {
+        (0..self.0.count_u64(8, field)?).map(|_| self.str(field)).collect()
     }
-    fn f32(&mut self) -> Result<f32> {
-        Ok(f32::from_le_bytes(self.take(4)?.try_into()?))
-    }
-    fn f64(&mut self) -> Result<f64> {
-        Ok(f64::from_le_bytes(self.take(8)?.try_into()?))
-    }
-    fn vec3(&mut self) -> Result<Vec3> {
-        Ok(Vec3::new(self.f32()?, self.f32()?, self.f32()?))
-    }
-    /// A count of things of at least `min_bytes` each: no larger than what is left, so a
-    /// corrupt count cannot ask for a huge allocation.
-    fn count(&mut self, min_bytes: usize) -> Result<usize> {
-        let n = self.u64()?;
-        if n > ((self.bytes.len() - self.at) / min_bytes.max(1)) as u64 {
-            bail!("a count of {n} is more than the metadata holds");
-        }
-        Ok(n as usize)
-    }
-    fn bytes(&mut self) -> Result<&[u8]> {
-        let n = self.count(1)?;
-        self.take(n)
-    }
-    fn str(&mut self) -> Result<String> {
-        Ok(std::str::from_utf8(self.bytes()?)?.to_string())
-    }
-    fn strs(&mut self) -> Result<Vec<String>> {
-        (0..self.count(8)?).map(|_| self.str()).collect()
-    }
-    fn camera(&mut self) -> Result<Camera> {
-        Ok(Camera { eye: self.vec3()?, target: self.vec3()?, up: self.vec3()?, fov_y_deg: self.f32()?, ..Camera::default() })
+    fn camera(&mut self, field: &str) -> Result<Camera> {
+        Ok(Camera { eye: self.vec3(field)?, target: self.vec3(field)?, up: self.vec3(field)?, fov_y_deg: self.0.f32(field)?, ..Camera::default() })
     }
 
     fn meta(mut self) -> Result<Meta> {
-        let version = self.str()?;
-        let inputs = (0..self.count(16)?).map(|_| Ok((PathBuf::from(self.str()?), self.u64()?))).collect::<Result<Vec<_>>>()?;
-        let camera = self.camera()?;
-        let cameras = (0..self.count(40)?).map(|_| self.camera()).collect::<Result<Vec<_>>>()?;
-        let ambient = self.vec3()?;
-        let sky = match self.u32()? {
+        let version = self.str("version")?;
+        let inputs = (0..self.0.count_u64(16, "inputs")?)
+            .map(|_| Ok((PathBuf::from(self.str("input path")?), self.0.u64("input hash")?)))
+            .collect::<Result<Vec<_>>>()?;
+        let camera = self.camera("camera")?;
+        let cameras = (0..self.0.count_u64(40, "cameras")?).map(|_| self.camera("cameras")).collect::<Result<Vec<_>>>()?;
+        let ambient = self.vec3("ambient")?;
+        let sky = match self.0.u32("sky kind")? {
             0 => Sky::None,
-            1 => Sky::Constant(self.vec3()?),
-            2 => Sky::CubeMap { first_texture: self.u32()?, scale: self.vec3()? },
-            3 => Sky::Environment { scale: self.f32()?, rotation_deg: self.f32()? },
+            1 => Sky::Constant(self.vec3("sky colour")?),
+            2 => Sky::CubeMap { first_texture: self.0.u32("sky texture")?, scale: self.vec3("sky scale")? },
+            3 => Sky::Environment { scale: self.0.f32("sky scale")?, rotation_deg: self.0.f32("sky rotation")? },
             other => bail!("unknown sky kind {other}"),
         };
-        let dropped_degenerate = self.u64()? as usize;
-        let warnings = self.strs()?;
-        let stat_inputs = (0..self.count(8)?).map(|_| Ok(PathBuf::from(self.str()?))).collect::<Result<Vec<_>>>()?;
-        let interior = self.u32()? != 0;
-        let default_light = self.u32()? != 0;
-        let (triangles, materials, lights) = (self.u64()? as usize, self.u64()? as usize, self.u64()? as usize);
-        let bounds = Aabb { min: self.vec3()?, max: self.vec3()? };
+        let dropped_degenerate = self.0.u64("dropped triangles")? as usize;
+        let warnings = self.strs("warnings")?;
+        let stat_inputs = (0..self.0.count_u64(8, "files read")?).map(|_| Ok(PathBuf::from(self.str("file read")?))).collect::<Result<Vec<_>>>()?;
+        let interior = self.0.u32("interior")? != 0;
+        let default_light = self.0.u32("default light")? != 0;
+        let (triangles, materials, lights) = (self.0.u64("triangles")? as usize, self.0.u64("materials")? as usize, self.0.u64("lights")? as usize);
+        let bounds = Aabb { min: self.vec3("bounds")?, max: self.vec3("bounds")? };
         let mut entries = Vec::new();
-        for _ in 0..self.count(20)? {
-            let name = self.str()?;
+        for _ in 0..self.0.count_u64(20, "features")? {
+            let name = self.str("feature")?;
             let feature = *features::ALL.iter().find(|f| f.name == name).with_context(|| format!("unknown shader feature {name:?}"))?;
-            entries.push((feature, self.u32()? != 0, self.str()?));
+            entries.push((feature, self.0.u32("feature on")? != 0, self.str("feature reason")?));
         }
-        let layout_name = self.str()?;
+        let layout_name = self.str("layout")?;
         let layout = *LayoutKind::ALL.iter().find(|l| l.name() == layout_name).with_context(|| format!("unknown layout {layout_name:?}"))?;
-        let push = bytemuck::try_pod_read_unaligned::<GpuPush>(self.bytes()?).map_err(|e| anyhow::anyhow!("push constants: {e:?}"))?;
-        let total_weight = self.f64()?;
-        let downsampled = self.strs()?;
-        let arrays = (0..self.count(16)?).map(|_| Ok((self.u64()?, self.u64()?))).collect::<Result<Vec<_>>>()?;
+        let push = bytemuck::try_pod_read_unaligned::<GpuPush>(self.0.bytes_u64("push constants")?).map_err(|e| anyhow::anyhow!("push constants: {e:?}"))?;
+        let total_weight = self.0.f64("light weight")?;
+        let downsampled = self.strs("downsampled textures")?;
+        let arrays =
+            (0..self.0.count_u64(16, "arrays")?).map(|_| Ok((self.0.u64("array offset")?, self.0.u64("array length")?))).collect::<Result<Vec<_>>>()?;
         Ok(Meta {
             version,
             inputs,
@@ -679,9 +643,9 @@ mod tests {
             arrays: vec![(64, 10), (128, 0)],
         };
         let bytes = encode(&meta);
-        assert_eq!(Reader { bytes: &bytes, at: 0 }.meta().unwrap(), meta);
+        assert_eq!(Reader(ByteReader::new(&bytes)).meta().unwrap(), meta);
         for cut in [0, 1, bytes.len() / 2, bytes.len() - 1] {
-            assert!(Reader { bytes: &bytes[..cut], at: 0 }.meta().is_err(), "cut at {cut}");
+            assert!(Reader(ByteReader::new(&bytes[..cut])).meta().is_err(), "cut at {cut}");
         }
     }
 }

@@ -26,6 +26,7 @@
 
 use super::accumulation::{Accumulation, FIXED_UNIT};
 use super::shard::ShardSet;
+use crate::bytes::{ByteReader, ByteWriter};
 use anyhow::{bail, Context as _, Result};
 use std::path::{Path, PathBuf};
 
@@ -251,133 +252,102 @@ pub struct Checkpoint {
     pub accum: Accumulation,
 }
 
-fn put_str(out: &mut Vec<u8>, s: &str) {
-    out.extend_from_slice(&(s.len() as u32).to_le_bytes());
-    out.extend_from_slice(s.as_bytes());
-}
-
 /// The fewest bytes a pixel takes in any version: two `[f32; 4]` sums before the fixed-point
 /// format, two `[u64; 3]` sums and two `u32` counts since.
 const LEAST_BYTES_PER_PIXEL: usize = 32;
 
-/// Reads little-endian fields from a byte slice, failing with the field's name when short.
-struct Reader<'a> {
-    data: &'a [u8],
-    pos: usize,
+/// The fixed-point sums of `count` pixels (version 5 on).
+fn fixed(r: &mut ByteReader, count: usize, field: &str) -> Result<Vec<[u64; 3]>> {
+    let bytes = r.take(count.checked_mul(24).context("image too large")?, field)?;
+    Ok(bytes
+        .chunks_exact(24)
+        .map(|c| {
+            let w = |i: usize| u64::from_le_bytes(c[i..i + 8].try_into().unwrap_or([0; 8]));
+            [w(0), w(8), w(16)]
+        })
+        .collect())
 }
 
-impl<'a> Reader<'a> {
-    fn remaining(&self) -> usize {
-        self.data.len() - self.pos
+/// The (samples, dropped) counts of `count` pixels.
+fn counts(r: &mut ByteReader, count: usize) -> Result<Vec<[u32; 2]>> {
+    let bytes = r.take(count.checked_mul(8).context("image too large")?, "sample counts")?;
+    Ok(bytes.chunks_exact(8).map(|c| [u32::from_le_bytes([c[0], c[1], c[2], c[3]]), u32::from_le_bytes([c[4], c[5], c[6], c[7]])]).collect())
+}
+
+/// The shards field: None for a whole run (count 0).
+fn shards(r: &mut ByteReader) -> Result<Option<ShardSet>> {
+    let count = r.u32("shard count")?;
+    let total_spp = r.u64("shard total spp")?;
+    let n = r.u32("shard index count")?;
+    if n > count {
+        bail!("field `shard index count` is {n}, more than the {count} shards");
     }
-    fn bytes(&mut self, n: usize, field: &str) -> Result<&'a [u8]> {
-        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
-        let Some(end) = end else { bail!("truncated at field `{field}` (byte {})", self.pos) };
-        let s = &self.data[self.pos..end];
-        self.pos = end;
-        Ok(s)
+    let indices = (0..n).map(|_| r.u32("shard index")).collect::<Result<Vec<_>>>()?;
+    if indices.iter().any(|&i| i >= count) || indices.windows(2).any(|w| w[0] >= w[1]) {
+        bail!("field `shard index` is not an ascending list of shards below {count}");
     }
-    fn u32(&mut self, field: &str) -> Result<u32> {
-        let b = self.bytes(4, field)?;
-        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    }
-    fn u64(&mut self, field: &str) -> Result<u64> {
-        let b = self.bytes(8, field)?;
-        let mut a = [0u8; 8];
-        a.copy_from_slice(b);
-        Ok(u64::from_le_bytes(a))
-    }
-    fn string(&mut self, field: &str) -> Result<String> {
-        let n = self.u32(field)? as usize;
-        String::from_utf8(self.bytes(n, field)?.to_vec()).with_context(|| format!("field `{field}` is not UTF-8"))
-    }
-    fn fixed(&mut self, count: usize, field: &str) -> Result<Vec<[u64; 3]>> {
-        let bytes = self.bytes(count.checked_mul(24).context("image too large")?, field)?;
-        Ok(bytes
-            .chunks_exact(24)
-            .map(|c| {
-                let w = |i: usize| u64::from_le_bytes(c[i..i + 8].try_into().unwrap_or([0; 8]));
-                [w(0), w(8), w(16)]
-            })
-            .collect())
-    }
-    fn counts(&mut self, count: usize) -> Result<Vec<[u32; 2]>> {
-        let bytes = self.bytes(count.checked_mul(8).context("image too large")?, "sample counts")?;
-        Ok(bytes.chunks_exact(8).map(|c| [u32::from_le_bytes([c[0], c[1], c[2], c[3]]), u32::from_le_bytes([c[4], c[5], c[6], c[7]])]).collect())
-    }
-    /// The shards field: None for a whole run (count 0).
-    fn shards(&mut self) -> Result<Option<ShardSet>> {
-        let count = self.u32("shard count")?;
-        let total_spp = self.u64("shard total spp")?;
-        let n = self.u32("shard index count")?;
-        if n > count {
-            bail!("field `shard index count` is {n}, more than the {count} shards");
-        }
-        let indices = (0..n).map(|_| self.u32("shard index")).collect::<Result<Vec<_>>>()?;
-        if indices.iter().any(|&i| i >= count) || indices.windows(2).any(|w| w[0] >= w[1]) {
-            bail!("field `shard index` is not an ascending list of shards below {count}");
-        }
-        Ok((count > 0).then_some(ShardSet { count, total_spp, indices }))
-    }
-    fn floats(&mut self, count: usize, field: &str) -> Result<Vec<[f32; 4]>> {
-        let bytes = self.bytes(count.checked_mul(16).context("image too large")?, field)?;
-        Ok(bytes
-            .chunks_exact(16)
-            .map(|c| {
-                let f = |i: usize| f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]);
-                [f(0), f(4), f(8), f(12)]
-            })
-            .collect())
-    }
+    Ok((count > 0).then_some(ShardSet { count, total_spp, indices }))
+}
+
+/// The float sums of `count` pixels (versions 1 to 4).
+fn floats(r: &mut ByteReader, count: usize, field: &str) -> Result<Vec<[f32; 4]>> {
+    let bytes = r.take(count.checked_mul(16).context("image too large")?, field)?;
+    Ok(bytes
+        .chunks_exact(16)
+        .map(|c| {
+            let f = |i: usize| f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]);
+            [f(0), f(4), f(8), f(12)]
+        })
+        .collect())
 }
 
 impl Checkpoint {
     pub fn to_bytes(&self) -> Vec<u8> {
         let s = &self.settings;
-        let mut out = Vec::with_capacity(256 + self.accum.even.len() * 56);
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&VERSION.to_le_bytes());
-        put_str(&mut out, &s.scene_path);
+        let mut out = ByteWriter::with_capacity(256 + self.accum.even.len() * 56);
+        out.raw(MAGIC);
+        out.raw(&VERSION.to_le_bytes());
+        out.str_u32(&s.scene_path);
         // Formats 1-3 stored the scene file's hash here; format 4 keeps the slot, at 0.
         let legacy = match &s.identity {
             Identity::SceneFile { fnv } => *fnv,
             Identity::Inputs { .. } => 0,
         };
-        out.extend_from_slice(&legacy.to_le_bytes());
+        out.raw(&legacy.to_le_bytes());
         for v in [s.width, s.height, s.seeds.len() as u32] {
-            out.extend_from_slice(&v.to_le_bytes());
+            out.raw(&v.to_le_bytes());
         }
         for seed in &s.seeds {
-            out.extend_from_slice(&seed.to_le_bytes());
+            out.raw(&seed.to_le_bytes());
         }
-        put_str(&mut out, &s.integrator);
+        out.str_u32(&s.integrator);
         for v in [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block, s.zsobol_log2] {
-            out.extend_from_slice(&v.to_le_bytes());
+            out.raw(&v.to_le_bytes());
         }
         let none = ShardSet { count: 0, total_spp: 0, indices: Vec::new() };
         let shards = s.shards.as_ref().unwrap_or(&none);
-        out.extend_from_slice(&shards.count.to_le_bytes());
-        out.extend_from_slice(&shards.total_spp.to_le_bytes());
-        out.extend_from_slice(&(shards.indices.len() as u32).to_le_bytes());
+        out.raw(&shards.count.to_le_bytes());
+        out.raw(&shards.total_spp.to_le_bytes());
+        out.raw(&(shards.indices.len() as u32).to_le_bytes());
         for i in &shards.indices {
-            out.extend_from_slice(&i.to_le_bytes());
+            out.raw(&i.to_le_bytes());
         }
-        out.extend_from_slice(&self.accum.samples.to_le_bytes());
-        out.extend_from_slice(&self.accum.even_samples.to_le_bytes());
+        out.raw(&self.accum.samples.to_le_bytes());
+        out.raw(&self.accum.even_samples.to_le_bytes());
         for px in self.accum.even.iter().chain(&self.accum.odd) {
             for c in px {
-                out.extend_from_slice(&c.to_le_bytes());
+                out.raw(&c.to_le_bytes());
             }
         }
         for px in &self.accum.counts {
             for c in px {
-                out.extend_from_slice(&c.to_le_bytes());
+                out.raw(&c.to_le_bytes());
             }
         }
-        out.extend_from_slice(&(self.accum.per_pixel as u32).to_le_bytes());
-        out.extend_from_slice(&(self.accum.rates.len() as u32).to_le_bytes());
+        out.raw(&(self.accum.per_pixel as u32).to_le_bytes());
+        out.raw(&(self.accum.rates.len() as u32).to_le_bytes());
         for r in &self.accum.rates {
-            out.extend_from_slice(&r.to_le_bytes());
+            out.raw(&r.to_le_bytes());
         }
         // A run identified by the scene file's hash (read from format 3 or older) writes the
         // block empty: the hash in the slot above says which identity holds.
@@ -385,43 +355,43 @@ impl Checkpoint {
             Identity::Inputs { inputs, sky, camera } => (sky.as_str(), inputs.as_slice(), *camera),
             Identity::SceneFile { .. } => ("", &[][..], [0.0; CAMERA_NUMBERS]),
         };
-        put_str(&mut out, sky);
-        out.extend_from_slice(&(inputs.len() as u32).to_le_bytes());
+        out.str_u32(sky);
+        out.raw(&(inputs.len() as u32).to_le_bytes());
         for i in inputs {
-            put_str(&mut out, &i.path);
-            out.extend_from_slice(&i.hash.to_le_bytes());
+            out.str_u32(&i.path);
+            out.raw(&i.hash.to_le_bytes());
         }
         for c in camera {
-            out.extend_from_slice(&c.to_le_bytes());
+            out.raw(&c.to_le_bytes());
         }
         let r = &s.resume;
         for text in [&r.output, &r.builder, &r.layout] {
-            put_str(&mut out, text);
+            out.str_u32(text);
         }
         // 0 and NaN: not given.
-        out.extend_from_slice(&r.spp.unwrap_or(0).to_le_bytes());
+        out.raw(&r.spp.unwrap_or(0).to_le_bytes());
         for x in [r.seconds, r.target_relmse] {
-            out.extend_from_slice(&x.unwrap_or(f64::NAN).to_le_bytes());
+            out.raw(&x.unwrap_or(f64::NAN).to_le_bytes());
         }
-        out
+        out.into_inner()
     }
 
     pub fn from_bytes(data: &[u8]) -> Result<Self> {
-        let mut r = Reader { data, pos: 0 };
-        if r.bytes(8, "magic")? != MAGIC {
+        let mut r = ByteReader::new(data);
+        if r.take(8, "magic")? != MAGIC {
             bail!("not a vkrt checkpoint (bad magic)");
         }
         let version = r.u32("version")?;
         if !(VERSION_BEFORE_COHERENCE..=VERSION).contains(&version) {
             bail!("checkpoint version {version}; this vkrt reads versions {VERSION_BEFORE_COHERENCE} to {VERSION}");
         }
-        let scene_path = r.string("scene_path")?;
+        let scene_path = r.str_u32("scene_path")?;
         let scene_hash = r.u64("scene_hash")?;
         let width = r.u32("width")?;
         let height = r.u32("height")?;
         let seed_count = r.u32("seed count")? as usize;
         let seeds = (0..seed_count).map(|_| r.u32("seeds")).collect::<Result<Vec<_>>>()?;
-        let integrator = r.string("integrator")?;
+        let integrator = r.str_u32("integrator")?;
         let sampler = r.u32("sampler")?;
         let sample_rate = r.u32("sample_rate")?;
         let max_depth = r.u32("max_depth")?;
@@ -437,7 +407,7 @@ impl Checkpoint {
         if zsobol_log2 > crate::gpu_abi::constants::ZSOBOL_MAX_LOG2 {
             bail!("field `zsobol_log2` is {zsobol_log2}, more than {}", crate::gpu_abi::constants::ZSOBOL_MAX_LOG2);
         }
-        let shards = if version > VERSION_BEFORE_FIXED { r.shards()? } else { None };
+        let shards = if version > VERSION_BEFORE_FIXED { shards(&mut r)? } else { None };
         let samples = r.u64("samples")?;
         let even_samples = r.u64("even_samples")?;
         if even_samples > samples {
@@ -447,15 +417,15 @@ impl Checkpoint {
         // Every pixel's sums are stored (at least 32 bytes of them, in the oldest format):
         // a damaged size fails here rather than allocating for pixels the file does not hold.
         if pixels > r.remaining() / LEAST_BYTES_PER_PIXEL {
-            bail!("truncated: {width}x{height} pixels need more than the {} bytes left (byte {})", r.remaining(), r.pos);
+            bail!("truncated: {width}x{height} pixels need more than the {} bytes left (byte {})", r.remaining(), r.position());
         }
         let mut accum = Accumulation::new(width, height);
         if version > VERSION_BEFORE_FIXED {
-            accum.even = r.fixed(pixels, "even sums")?;
-            accum.odd = r.fixed(pixels, "odd sums")?;
-            accum.counts = r.counts(pixels)?;
+            accum.even = fixed(&mut r, pixels, "even sums")?;
+            accum.odd = fixed(&mut r, pixels, "odd sums")?;
+            accum.counts = counts(&mut r, pixels)?;
         } else {
-            let (sum, even) = (r.floats(pixels, "sum")?, r.floats(pixels, "even")?);
+            let (sum, even) = (floats(&mut r, pixels, "sum")?, floats(&mut r, pixels, "even")?);
             legacy_sums(&mut accum, &sum, &even, samples);
         }
         let (mut per_pixel, mut rates) = (false, Vec::new());
@@ -472,14 +442,14 @@ impl Checkpoint {
             rates = (0..n).map(|_| r.u32("rates")).collect::<Result<Vec<_>>>()?;
         }
         let identity = if version > VERSION_BEFORE_INPUTS {
-            let sky = r.string("sky")?;
+            let sky = r.str_u32("sky")?;
             let n = r.u32("input count")? as usize;
-            let remaining = data.len() - r.pos;
+            let remaining = r.remaining();
             // Each input takes at least 12 bytes: a bad count is an error, not a huge allocation.
             if n > remaining / 12 {
                 bail!("field `input count` is {n}, more than the {remaining} bytes left can hold");
             }
-            let inputs = (0..n).map(|_| Ok(InputHash { path: r.string("input path")?, hash: r.u64("input hash")? })).collect::<Result<Vec<_>>>()?;
+            let inputs = (0..n).map(|_| Ok(InputHash { path: r.str_u32("input path")?, hash: r.u64("input hash")? })).collect::<Result<Vec<_>>>()?;
             // Formats before the lens stored ten numbers: a pinhole.
             let stored = if version > VERSION_BEFORE_LENS { CAMERA_NUMBERS } else { 10 };
             let mut camera = [0.0f32; CAMERA_NUMBERS];
@@ -497,7 +467,7 @@ impl Checkpoint {
             Identity::SceneFile { fnv: scene_hash }
         };
         let resume = if version > VERSION_BEFORE_INPUTS {
-            let (output, builder, layout) = (r.string("output")?, r.string("builder")?, r.string("layout")?);
+            let (output, builder, layout) = (r.str_u32("output")?, r.str_u32("builder")?, r.str_u32("layout")?);
             let spp = Some(r.u64("stop spp")?).filter(|&n| n > 0);
             let mut given = || -> Result<Option<f64>> { Ok(Some(f64::from_bits(r.u64("stop")?)).filter(|x| !x.is_nan())) };
             let (seconds, target_relmse) = (given()?, given()?);
@@ -505,8 +475,8 @@ impl Checkpoint {
         } else {
             ResumeDefaults::default()
         };
-        if r.pos != data.len() {
-            bail!("{} unexpected bytes after the data", data.len() - r.pos);
+        if r.remaining() != 0 {
+            bail!("{} unexpected bytes after the data", r.remaining());
         }
         Ok(Self {
             settings: RunSettings {
@@ -656,31 +626,32 @@ mod tests {
     /// with float sums `sum` and `even` (rgb + dropped, rgb + count) per pixel.
     fn legacy_bytes(c: &Checkpoint, version: u32, sum: &[[f32; 4]], even: &[[f32; 4]]) -> Vec<u8> {
         let s = &c.settings;
-        let mut out = MAGIC.to_vec();
-        out.extend_from_slice(&version.to_le_bytes());
-        put_str(&mut out, &s.scene_path);
+        let mut out = ByteWriter::default();
+        out.raw(MAGIC);
+        out.raw(&version.to_le_bytes());
+        out.str_u32(&s.scene_path);
         let Identity::SceneFile { fnv } = s.identity else { panic!("a legacy identity") };
-        out.extend_from_slice(&fnv.to_le_bytes());
+        out.raw(&fnv.to_le_bytes());
         for v in [s.width, s.height, s.seeds.len() as u32].iter().chain(&s.seeds) {
-            out.extend_from_slice(&v.to_le_bytes());
+            out.raw(&v.to_le_bytes());
         }
-        put_str(&mut out, &s.integrator);
+        out.str_u32(&s.integrator);
         let mut words = vec![s.sampler, s.sample_rate, s.max_depth, s.nee];
         if version > VERSION_BEFORE_COHERENCE {
             words.push(s.coherence);
         }
         for v in words {
-            out.extend_from_slice(&v.to_le_bytes());
+            out.raw(&v.to_le_bytes());
         }
-        out.extend_from_slice(&c.accum.samples.to_le_bytes());
-        out.extend_from_slice(&c.accum.even_samples.to_le_bytes());
+        out.raw(&c.accum.samples.to_le_bytes());
+        out.raw(&c.accum.even_samples.to_le_bytes());
         for x in sum.iter().chain(even).flatten() {
-            out.extend_from_slice(&x.to_le_bytes());
+            out.raw(&x.to_le_bytes());
         }
         if version > VERSION_BEFORE_ADAPTIVE {
-            out.extend_from_slice(&[0u8; 8]);
+            out.raw(&[0u8; 8]);
         }
-        out
+        out.into_inner()
     }
 
     /// `c`'s bytes as format `version` writes them: the last `drop` of the settings words
