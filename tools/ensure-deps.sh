@@ -6,7 +6,7 @@
 # driver is Mesa's lavapipe. We want Mesa 25 from Debian's bookworm-backports suite rather than
 # Debian 12's stock Mesa 22.3: it ran our ray-triangle kernel 12x faster (306 vs 26 M tests/s).
 #
-# Usage: tools/ensure-deps.sh [--with-validation] [--with-slurm] [--with-swiftshader]
+# Usage: tools/ensure-deps.sh [--with-validation] [--with-slurm] [--with-swiftshader] [--with-python]
 #   --with-validation  also install the Khronos validation layers (the tests turn them on when present)
 #   --with-slurm       also install Slurm and MUNGE (slurm-wlm, munge): tests/slurm.rs starts a
 #                      one-node cluster of its own with them (no systemd services are used)
@@ -14,6 +14,9 @@
 #                      chromium-common package (downloaded, not installed: no Chromium) into
 #                      /opt/vkrt-swiftshader, with an ICD file there that names it; it stays
 #                      invisible until VK_ADD_DRIVER_FILES=/opt/vkrt-swiftshader/vk_swiftshader_icd.json
+#   --with-python      also install Python 3 with venv (python3, python3-venv): the Python
+#                      package's tests (tools/python-test) build and install it in a virtual
+#                      environment of their own
 #
 # Prints what it installs; prints nothing more than one line when everything is already there.
 set -euo pipefail
@@ -23,11 +26,13 @@ export PATH="$PATH:/usr/local/sbin:/usr/sbin:/sbin"
 want_validation=0
 want_slurm=0
 want_swiftshader=0
+want_python=0
 for arg in "$@"; do
   case "$arg" in
     --with-validation) want_validation=1 ;;
     --with-slurm) want_slurm=1 ;;
     --with-swiftshader) want_swiftshader=1 ;;
+    --with-python) want_python=1 ;;
     -h|--help) awk 'NR == 1 { next } /^#/ { sub(/^# ?/, ""); print; next } { exit }' "$0"; exit 0 ;;
     *) echo "ensure-deps: unknown argument '$arg'" >&2; exit 2 ;;
   esac
@@ -58,6 +63,11 @@ if [ "$want_validation" = 1 ] && ! have_validation; then missing+=(vulkan-valida
 if [ "$want_slurm" = 1 ]; then
   { have_cmd sbatch && have_cmd slurmctld && have_cmd slurmd; } || missing+=(slurm-wlm)
   { have_cmd munged && have_cmd mungekey; } || missing+=(munge)
+fi
+if [ "$want_python" = 1 ]; then
+  have_cmd python3 || missing+=(python3)
+  # Debian splits venv's pip bootstrap out of python3 itself.
+  python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || missing+=(python3-venv)
 fi
 
 # SwiftShader (--with-swiftshader): Chromium's Vulkan implementation, from Debian's

@@ -193,12 +193,12 @@ impl DisplayArgs {
 }
 
 /// A camera as the numbers a checkpoint stores.
-fn camera_numbers(c: &Camera) -> [f32; CAMERA_NUMBERS] {
+pub fn camera_numbers(c: &Camera) -> [f32; CAMERA_NUMBERS] {
     let (l, t, u) = (c.lens, c.target, c.up);
     [c.eye.x, c.eye.y, c.eye.z, t.x, t.y, t.z, u.x, u.y, u.z, c.fov_y_deg, l.aperture_radius, l.focus_distance]
 }
 
-fn camera_from(n: &[f32; CAMERA_NUMBERS]) -> Camera {
+pub fn camera_from(n: &[f32; CAMERA_NUMBERS]) -> Camera {
     Camera {
         eye: Vec3::new(n[0], n[1], n[2]),
         target: Vec3::new(n[3], n[4], n[5]),
@@ -211,7 +211,7 @@ fn camera_from(n: &[f32; CAMERA_NUMBERS]) -> Camera {
 impl CameraArgs {
     /// The camera to render with: `base` (the scene's, or a resumed run's), or the scene file's
     /// camera `--camera N`, with the parts given on the command line replaced.
-    fn choose(&self, scene: &SceneSummary, base: Camera) -> Result<Camera> {
+    pub fn choose(&self, scene: &SceneSummary, base: Camera) -> Result<Camera> {
         let mut cam = match self.camera {
             Some(n) => *scene.cameras.get(n as usize).with_context(|| {
                 let count = scene.cameras.len();

@@ -221,7 +221,7 @@ pub fn stop_rules(spp: Option<u32>, args: &PathArgs, resumed: Option<&ResumeDefa
 
 /// This run's settings as a checkpoint records them; `connects`: whether its light-vertex
 /// connections are on (`Connections::resolve` for its scene).
-fn run_settings(run: &PathRun, identity: Identity, connects: bool) -> RunSettings {
+pub fn run_settings(run: &PathRun, identity: Identity, connects: bool) -> RunSettings {
     let s = &run.settings;
     RunSettings {
         scene_path: run.scene_path.clone(),
@@ -254,7 +254,7 @@ fn run_settings(run: &PathRun, identity: Identity, connects: bool) -> RunSetting
 }
 
 /// The sums of the resumed checkpoint, if they are this run's (same render, same seed).
-fn resumed_sums(c: &Checkpoint, path: &Path, run: &PathRun, ours: &RunSettings, say: &dyn Fn(&str)) -> Result<Accumulation> {
+pub fn resumed_sums(c: &Checkpoint, path: &Path, run: &PathRun, ours: &RunSettings, say: &dyn Fn(&str)) -> Result<Accumulation> {
     let ours = match c.settings.identity {
         // An older vkrt hashed only the scene file: check that much, and say so.
         Identity::SceneFile { .. } => {
