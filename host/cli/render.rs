@@ -11,7 +11,7 @@ use super::shard;
 use super::DeviceArgs;
 use crate::accel::LayoutKind;
 use crate::bvh::{BuildConfig, BuilderKind};
-use crate::gpu::DeviceInfo;
+use crate::gpu::{Context, DeviceInfo};
 use crate::integrator::path::checkpoint::{camera_flags, Checkpoint, Identity, CAMERA_NUMBERS};
 use crate::integrator::path::connections::{self, Connections};
 use crate::integrator::path::shard::Shard;
@@ -20,7 +20,7 @@ use crate::integrator::{whitted, Image, RenderSettings};
 use crate::output;
 use crate::output::display::{Display, Exposure, Tonemap};
 use crate::prepare::cache::{prepare_scene, Cache, CacheOutcome, Prepared, Storing};
-use crate::prepare::{Features, GpuScene, PrepareOptions};
+use crate::prepare::{Features, GpuScene, PrepareOptions, SceneArrays, SceneInfo};
 use crate::scene::camera::Lens;
 use crate::scene::{Camera, SceneSummary};
 use anyhow::{bail, Context as _, Result};
@@ -234,6 +234,33 @@ impl CameraArgs {
     }
 }
 
+/// The prepared scene as a render sees it, uploaded: the sky (`sky`, as `sky::sky_text` gives
+/// it) and the camera (`base`, with `camera`'s parts replaced) set in `scene`, the shader
+/// features they imply (an environment map replaces the default light, in the variant too),
+/// and the environment map's light table. Shared by `vkrt render` and the Python package
+/// (python/src/scene.rs), so that both render the same bytes.
+pub fn view_and_upload<'a>(
+    ctx: &'a Context,
+    arrays: &SceneArrays,
+    info: &SceneInfo,
+    scene: &mut SceneSummary,
+    sky: &str,
+    camera: &CameraArgs,
+    base: Camera,
+) -> Result<GpuScene<'a>> {
+    let env = super::sky::apply(sky, scene)?;
+    scene.camera = camera.choose(scene, base)?;
+    let mut info = info.with_view(&scene.camera, &scene.sky);
+    if env.is_some() && scene.stats.default_light {
+        info.features = info.features.without_default_light();
+    }
+    let mut gpu = GpuScene::upload_arrays(ctx, arrays, &info)?;
+    if let Some(env) = &env {
+        gpu.set_environment(ctx, env, arrays.picks, arrays.total_weight, scene.stats.default_light)?;
+    }
+    Ok(gpu)
+}
+
 /// Prints a line on stderr unless `--quiet`.
 struct Say {
     quiet: bool,
@@ -427,19 +454,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         _ => (None, None),
     };
     let sky = super::sky::sky_text(&args.sky, &args.envmap, stored_sky)?;
-    let env = super::sky::apply(&sky, &mut scene)?;
-    scene.camera = args.camera.choose(&scene, stored_camera.unwrap_or(scene.camera))?;
-    let mut info = prepared.info().with_view(&scene.camera, &scene.sky);
-    if env.is_some() && scene.stats.default_light {
-        // The map replaces the default light (set_environment, below): so does the variant.
-        info.features = info.features.without_default_light();
-    }
     let t1 = Instant::now();
-    let arrays = prepared.arrays()?;
-    let mut gpu = GpuScene::upload_arrays(&ctx, &arrays, &info)?;
-    if let Some(env) = &env {
-        gpu.set_environment(&ctx, env, arrays.picks, arrays.total_weight, scene.stats.default_light)?;
-    }
+    let base = stored_camera.unwrap_or(scene.camera);
+    let gpu = view_and_upload(&ctx, &prepared.arrays()?, &prepared.info(), &mut scene, &sky, &args.camera, base)?;
     let upload_s = t1.elapsed().as_secs_f64();
     if args.verbose {
         report(args, &scene_path, &scene, &prepared, &gpu, &ctx.info, (parse_s, prepare_s, upload_s), &cache_outcome, integrator);

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use vkrt::accel::LayoutKind;
 use vkrt::bvh::{BuildConfig, BuilderKind};
-use vkrt::cli::render::CameraArgs;
+use vkrt::cli::render::{view_and_upload, CameraArgs};
 use vkrt::cli::sky::EnvmapArgs;
 use vkrt::gpu_abi::{GpuHit, GpuRay};
 use vkrt::prepare::cache::{prepare_scene, Cache, Storing};
@@ -155,21 +155,10 @@ impl Scene {
         let mut summary = prepared.summary().clone();
         warnings.extend(summary.stats.warnings.iter().chain(prepared.downsampled()).cloned());
         let sky = vkrt::cli::sky::sky_text(&view.sky, &view.envmap, view.stored_sky.clone())?;
-        let env = vkrt::cli::sky::apply(&sky, &mut summary)?;
-        summary.camera = view.camera.choose(&summary, summary.camera)?;
-        let mut info = prepared.info().with_view(&summary.camera, &summary.sky);
-        if env.is_some() && summary.stats.default_light {
-            // The map replaces the default light: so does the shader variant (as `vkrt render`).
-            info.features = info.features.without_default_light();
-        }
-        let arrays = prepared.arrays()?;
         let gpu = {
             let _turn = device.turn();
-            let mut gpu = GpuScene::upload_arrays(&device.ctx, &arrays, &info)?;
-            if let Some(env) = &env {
-                gpu.set_environment(&device.ctx, env, arrays.picks, arrays.total_weight, summary.stats.default_light)?;
-            }
-            gpu
+            let base = summary.camera;
+            view_and_upload(&device.ctx, &prepared.arrays()?, &prepared.info(), &mut summary, &sky, &view.camera, base)?
         };
         let input_hashes = prepared.input_hashes().map(<[_]>::to_vec);
         drop(prepared);
@@ -193,7 +182,7 @@ impl Scene {
     }
 
     /// `Scene.from_arrays`: a scene made in memory, prepared without the cache.
-    pub fn from_scene(mut scene: vkrt::scene::Scene, view: &View, builder: Option<&str>, layout: Option<&str>, device: Option<&str>) -> Result<Self> {
+    pub fn from_scene(scene: vkrt::scene::Scene, view: &View, builder: Option<&str>, layout: Option<&str>, device: Option<&str>) -> Result<Self> {
         let options = PrepareOptions {
             builder: builder_named(builder)?,
             layout: layout.map(layout_named).transpose()?.unwrap_or_default(),
@@ -202,24 +191,12 @@ impl Scene {
         };
         let device = device::open(device)?;
         let sky = vkrt::cli::sky::sky_text(&view.sky, &view.envmap, view.stored_sky.clone())?;
-        let mut summary = scene.summary();
-        let env = vkrt::cli::sky::apply(&sky, &mut summary)?;
-        scene.sky = summary.sky;
-        scene.camera = view.camera.choose(&summary, summary.camera)?;
-        summary.camera = scene.camera;
         let prepared = PreparedScene::new(&scene, &options)?;
-        let mut info = prepared.info.clone();
-        if env.is_some() && summary.stats.default_light {
-            info.features = info.features.without_default_light();
-        }
-        let arrays = prepared.arrays();
+        let mut summary = scene.summary();
         let gpu = {
             let _turn = device.turn();
-            let mut gpu = GpuScene::upload_arrays(&device.ctx, &arrays, &info)?;
-            if let Some(env) = &env {
-                gpu.set_environment(&device.ctx, env, arrays.picks, arrays.total_weight, summary.stats.default_light)?;
-            }
-            gpu
+            let base = summary.camera;
+            view_and_upload(&device.ctx, &prepared.arrays(), &prepared.info, &mut summary, &sky, &view.camera, base)?
         };
         let warnings = summary.stats.warnings.clone();
         Ok(Self {
