@@ -354,62 +354,86 @@ fn absolute(path: &Path) -> PathBuf {
     std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
 }
 
+/// A render's settings, resolved before any work: each from its flag, else from a resumed
+/// checkpoint, else the default; and the part of a sharded run this is, asked for or held.
+struct RenderPlan {
+    integrator: IntegratorKind,
+    resumed: Option<Checkpoint>,
+    shard: Option<Shard>,
+    scene_path: PathBuf,
+    output: PathBuf,
+    width: u32,
+    height: u32,
+    seed: u32,
+    builder: BuilderKind,
+    layout: LayoutKind,
+    display: Display,
+}
+
+impl RenderPlan {
+    fn resolve(args: &RenderArgs, say: &Say) -> Result<Self> {
+        let integrator = choose_integrator(args, say)?;
+        let resumed = match &args.path.resume {
+            Some(p) => Some(Checkpoint::read(p)?),
+            None => None,
+        };
+        let stored = resumed.as_ref().map(|c| &c.settings);
+        if let Some(c) = &resumed {
+            if c.settings.seeds.len() > 1 {
+                bail!(
+                    "cannot resume a merged checkpoint (seeds {:?}): its runs cannot go on as one; turn it into an image \
+                     with `vkrt merge`",
+                    c.settings.seeds
+                );
+            }
+        }
+        let defaults = stored.map(|s| &s.resume).filter(|r| !r.output.is_empty());
+        // A shard: asked for now, or the resumed checkpoint's (a preempted shard goes on).
+        let requested = args.path.shard.requested(&|name| std::env::var(name).ok())?;
+        let timed = if args.path.time.is_some() {
+            Some("--time")
+        } else if args.path.target_relmse.is_some() {
+            Some("--target-relmse")
+        } else {
+            None
+        };
+        let mut shard = shard::resolve(requested, args.spp.map(u64::from), args.path.adaptive, timed)?;
+        if let Some(set) = stored.and_then(|s| s.shards.as_ref()) {
+            let &[index] = set.indices.as_slice() else {
+                bail!("cannot resume merged shards ({:?} of {}): merge the rest with `vkrt merge`", set.indices, set.count);
+            };
+            let held = Shard::new(index, set.count, set.total_spp)?;
+            if shard.is_some_and(|s| s != held) {
+                bail!("the checkpoint is shard {} of a {}-spp run; this command asks for another part", held.label(), held.total_spp);
+            }
+            shard = Some(held);
+        }
+        let scene_path = match (&args.scene, stored) {
+            (Some(p), _) => p.clone(),
+            (None, Some(s)) => PathBuf::from(&s.scene_path),
+            (None, None) => bail!("no scene file given (vkrt render SCENE -o OUTPUT)"),
+        };
+        let output = match (&args.output, defaults) {
+            (Some(p), _) => p.clone(),
+            (None, Some(d)) => PathBuf::from(&d.output),
+            (None, None) if resumed.is_some() => bail!("the checkpoint does not record its output (an older vkrt wrote it): give -o"),
+            (None, None) => bail!("no output given: -o FILE (.png, .exr or .pfm)"),
+        };
+        let output = shard::output_path(&output, shard)?;
+        let width = args.width.or(stored.map(|s| s.width)).unwrap_or(DEFAULT_SIZE);
+        let height = args.height.or(stored.map(|s| s.height)).unwrap_or(DEFAULT_SIZE);
+        let seed = args.seed.or(stored.and_then(|s| s.seeds.first().copied())).unwrap_or(0);
+        let builder = args.builder.or_else(|| defaults.and_then(|d| BuilderKind::from_str(&d.builder, false).ok())).unwrap_or_default();
+        let layout = args.layout.or_else(|| defaults.and_then(|d| LayoutKind::from_str(&d.layout, false).ok())).unwrap_or_default();
+        let display = args.display.display();
+        Ok(Self { integrator, resumed, shard, scene_path, output, width, height, seed, builder, layout, display })
+    }
+}
+
 pub fn run(args: &RenderArgs) -> Result<()> {
     let say = Say { quiet: args.quiet };
-    let integrator = choose_integrator(args, &say)?;
-    let resumed = match &args.path.resume {
-        Some(p) => Some(Checkpoint::read(p)?),
-        None => None,
-    };
+    let RenderPlan { integrator, resumed, shard, scene_path, output, width, height, seed, builder, layout, display } = RenderPlan::resolve(args, &say)?;
     let stored = resumed.as_ref().map(|c| &c.settings);
-    if let Some(c) = &resumed {
-        if c.settings.seeds.len() > 1 {
-            bail!(
-                "cannot resume a merged checkpoint (seeds {:?}): its runs cannot go on as one; turn it into an image \
-                 with `vkrt merge`",
-                c.settings.seeds
-            );
-        }
-    }
-    let defaults = stored.map(|s| &s.resume).filter(|r| !r.output.is_empty());
-    // A shard: asked for now, or the resumed checkpoint's (a preempted shard goes on).
-    let requested = args.path.shard.requested(&|name| std::env::var(name).ok())?;
-    let timed = if args.path.time.is_some() {
-        Some("--time")
-    } else if args.path.target_relmse.is_some() {
-        Some("--target-relmse")
-    } else {
-        None
-    };
-    let mut shard = shard::resolve(requested, args.spp.map(u64::from), args.path.adaptive, timed)?;
-    if let Some(set) = stored.and_then(|s| s.shards.as_ref()) {
-        let &[index] = set.indices.as_slice() else {
-            bail!("cannot resume merged shards ({:?} of {}): merge the rest with `vkrt merge`", set.indices, set.count);
-        };
-        let held = Shard::new(index, set.count, set.total_spp)?;
-        if shard.is_some_and(|s| s != held) {
-            bail!("the checkpoint is shard {} of a {}-spp run; this command asks for another part", held.label(), held.total_spp);
-        }
-        shard = Some(held);
-    }
-    let scene_path = match (&args.scene, stored) {
-        (Some(p), _) => p.clone(),
-        (None, Some(s)) => PathBuf::from(&s.scene_path),
-        (None, None) => bail!("no scene file given (vkrt render SCENE -o OUTPUT)"),
-    };
-    let output = match (&args.output, defaults) {
-        (Some(p), _) => p.clone(),
-        (None, Some(d)) => PathBuf::from(&d.output),
-        (None, None) if resumed.is_some() => bail!("the checkpoint does not record its output (an older vkrt wrote it): give -o"),
-        (None, None) => bail!("no output given: -o FILE (.png, .exr or .pfm)"),
-    };
-    let output = shard::output_path(&output, shard)?;
-    let width = args.width.or(stored.map(|s| s.width)).unwrap_or(DEFAULT_SIZE);
-    let height = args.height.or(stored.map(|s| s.height)).unwrap_or(DEFAULT_SIZE);
-    let seed = args.seed.or(stored.and_then(|s| s.seeds.first().copied())).unwrap_or(0);
-    let builder = args.builder.or_else(|| defaults.and_then(|d| BuilderKind::from_str(&d.builder, false).ok())).unwrap_or_default();
-    let layout = args.layout.or_else(|| defaults.and_then(|d| LayoutKind::from_str(&d.layout, false).ok())).unwrap_or_default();
-    let display = args.display.display();
 
     // Checks that need no scene.
     if shard.is_some() {
