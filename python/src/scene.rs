@@ -86,19 +86,25 @@ fn vec3(name: &str, v: Option<Vec<f32>>) -> Result<Option<Vec3>> {
     }
 }
 
+/// The camera and sky options as Python passes them (`_view` in python/vkrt/__init__.py: a dict
+/// with every key, None where not given).
+#[derive(FromPyObject, Default)]
+#[pyo3(from_item_all)]
+pub struct ViewArgs {
+    camera: Option<u32>,
+    eye: Option<Vec<f32>>,
+    target: Option<Vec<f32>>,
+    up: Option<Vec<f32>>,
+    fov: Option<f32>,
+    sky: Option<Vec<f32>>,
+    envmap: Option<PathBuf>,
+    envmap_scale: Option<f32>,
+    envmap_rotate: Option<f32>,
+}
+
 impl View {
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        camera: Option<u32>,
-        eye: Option<Vec<f32>>,
-        target: Option<Vec<f32>>,
-        up: Option<Vec<f32>>,
-        fov: Option<f32>,
-        sky: Option<Vec<f32>>,
-        envmap: Option<PathBuf>,
-        envmap_scale: Option<f32>,
-        envmap_rotate: Option<f32>,
-    ) -> Result<Self> {
+    pub fn new(args: ViewArgs) -> Result<Self> {
+        let ViewArgs { camera, eye, target, up, fov, sky, envmap, envmap_scale, envmap_rotate } = args;
         if let Some(f) = fov {
             if !(f > 0.0 && f < 180.0) {
                 bail!("fov={f}: the vertical field of view must be between 0 and 180 degrees");
@@ -542,26 +548,17 @@ impl Scene {
 
 /// `vkrt.load_scene`: see python/vkrt/__init__.py.
 #[pyfunction]
-#[pyo3(signature = (path, camera=None, eye=None, target=None, up=None, fov=None, sky=None, envmap=None, envmap_scale=None, envmap_rotate=None, builder=None, layout=None, triangle_list=true, device=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (path, view, builder=None, layout=None, triangle_list=true, device=None))]
 pub fn _load_scene(
     py: Python<'_>,
     path: PathBuf,
-    camera: Option<u32>,
-    eye: Option<Vec<f32>>,
-    target: Option<Vec<f32>>,
-    up: Option<Vec<f32>>,
-    fov: Option<f32>,
-    sky: Option<Vec<f32>>,
-    envmap: Option<PathBuf>,
-    envmap_scale: Option<f32>,
-    envmap_rotate: Option<f32>,
+    view: ViewArgs,
     builder: Option<String>,
     layout: Option<String>,
     triangle_list: bool,
     device: Option<String>,
 ) -> PyResult<Scene> {
-    let view = View::new(camera, eye, target, up, fov, sky, envmap, envmap_scale, envmap_rotate).py_err()?;
+    let view = View::new(view).py_err()?;
     py.allow_threads(|| Scene::load(&path, &view, builder.as_deref(), layout.as_deref(), triangle_list, device.as_deref())).py_err()
 }
 
@@ -643,7 +640,7 @@ fn light(i: usize, d: &Bound<'_, PyDict>) -> Result<Light> {
 
 /// `vkrt.Scene.from_arrays`: see python/vkrt/__init__.py.
 #[pyfunction]
-#[pyo3(signature = (vertices, triangles, material_ids=None, materials=None, lights=None, normals=None, uvs=None, eye=None, target=None, up=None, fov=None, sky=None, envmap=None, builder=None, layout=None, device=None))]
+#[pyo3(signature = (vertices, triangles, material_ids, materials, lights, normals, uvs, view, builder=None, layout=None, device=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn _scene_from_arrays(
     py: Python<'_>,
@@ -654,17 +651,12 @@ pub fn _scene_from_arrays(
     lights: Option<Vec<Bound<'_, PyDict>>>,
     normals: Option<PyReadonlyArray2<'_, f32>>,
     uvs: Option<PyReadonlyArray2<'_, f32>>,
-    eye: Option<Vec<f32>>,
-    target: Option<Vec<f32>>,
-    up: Option<Vec<f32>>,
-    fov: Option<f32>,
-    sky: Option<Vec<f32>>,
-    envmap: Option<PathBuf>,
+    view: ViewArgs,
     builder: Option<String>,
     layout: Option<String>,
     device: Option<String>,
 ) -> PyResult<Scene> {
-    let view = View::new(None, eye, target, up, fov, sky, envmap, None, None).py_err()?;
+    let view = View::new(view).py_err()?;
     let mut materials: Vec<Material> = materials.unwrap_or_default().iter().enumerate().map(|(i, d)| material(i, d)).collect::<Result<_>>().py_err()?;
     if materials.is_empty() {
         materials.push(Material::default());

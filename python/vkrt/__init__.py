@@ -61,6 +61,32 @@ def _warn(scene: Scene) -> Scene:
     return scene
 
 
+def _view(
+    camera: Optional[int] = None,
+    eye: Optional[Vec3] = None,
+    target: Optional[Vec3] = None,
+    up: Optional[Vec3] = None,
+    fov: Optional[float] = None,
+    sky: Optional[Vec3] = None,
+    envmap: Optional[PathLike] = None,
+    envmap_scale: Optional[float] = None,
+    envmap_rotate: Optional[float] = None,
+) -> Dict[str, Any]:
+    """The camera and sky options, checked and converted, as the compiled module takes them."""
+    number = lambda x: None if x is None else float(x)  # noqa: E731
+    return {
+        "camera": camera,
+        "eye": _vec("eye", eye),
+        "target": _vec("target", target),
+        "up": _vec("up", up),
+        "fov": number(fov),
+        "sky": _vec("sky", sky),
+        "envmap": _path("envmap", envmap),
+        "envmap_scale": number(envmap_scale),
+        "envmap_rotate": number(envmap_rotate),
+    }
+
+
 def devices() -> List[Dict[str, Any]]:
     """Every Vulkan device, as ``vkrt info`` lists them.
 
@@ -113,22 +139,9 @@ def load_scene(
     p = _path("path", path)
     if p is None:
         raise TypeError("load_scene() needs a path")
-    scene = _vkrt._load_scene(
-        p,
-        camera=camera,
-        eye=_vec("eye", eye),
-        target=_vec("target", target),
-        up=_vec("up", up),
-        fov=None if fov is None else float(fov),
-        sky=_vec("sky", sky),
-        envmap=_path("envmap", envmap),
-        envmap_scale=None if envmap_scale is None else float(envmap_scale),
-        envmap_rotate=None if envmap_rotate is None else float(envmap_rotate),
-        builder=builder,
-        layout=layout,
-        triangle_list=bool(triangle_list),
-        device=None if device is None else str(device),
-    )
+    view = _view(camera, eye, target, up, fov, sky, envmap, envmap_scale, envmap_rotate)
+    device = None if device is None else str(device)
+    scene = _vkrt._load_scene(p, view, builder=builder, layout=layout, triangle_list=bool(triangle_list), device=device)
     return _warn(scene)
 
 
@@ -197,14 +210,9 @@ def _from_arrays(
         ids,
         None if materials is None else [dict(m) for m in materials],
         None if lights is None else [dict(li) for li in lights],
-        normals=n,
-        uvs=uv,
-        eye=_vec("eye", eye),
-        target=_vec("target", target),
-        up=_vec("up", up),
-        fov=None if fov is None else float(fov),
-        sky=_vec("sky", sky),
-        envmap=_path("envmap", envmap),
+        n,
+        uv,
+        _view(eye=eye, target=target, up=up, fov=fov, sky=sky, envmap=envmap),
         builder=builder,
         layout=layout,
         device=None if device is None else str(device),
