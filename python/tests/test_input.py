@@ -2,6 +2,7 @@
 never a crash; scenes from arrays; devices; the GIL and Ctrl-C."""
 
 import _thread
+import signal
 import threading
 import time
 
@@ -130,12 +131,19 @@ def test_the_gil_is_released_while_rendering(cornell):
 def test_ctrl_c_stops_a_long_render(cornell):
     scene = vkrt.load_scene(cornell)
     run = vkrt.Progressive(scene, width=64, height=64)
+    # Python's own Ctrl-C handler, as an interactive session has it: a process started in the
+    # background by a shell (CI's runner) inherits SIGINT ignored, and then Python installs none
+    # and interrupt_main does nothing.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(1.0, _thread.interrupt_main)
     start = time.perf_counter()
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        run.add(seconds=120, progress=False)
-    timer.cancel()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run.add(seconds=120, progress=False)
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     assert time.perf_counter() - start < 30
     assert run.spp > 0, "the samples finished before Ctrl-C are kept"
 
