@@ -679,3 +679,59 @@ fn report(
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser as _;
+
+    /// The plan `vkrt render ARGS...` resolves to (no device, no scene file read).
+    fn plan(args: &[&str]) -> Result<RenderPlan> {
+        let cli = crate::cli::Cli::try_parse_from(["vkrt", "render"].iter().chain(args)).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let crate::cli::Command::Render(render) = cli.command else { bail!("not a render command") };
+        RenderPlan::resolve(&render, &Say { quiet: true })
+    }
+
+    #[test]
+    fn a_plan_takes_the_defaults_where_no_flag_says_otherwise() {
+        let p = plan(&["room.obj", "-o", "room.png"]).unwrap();
+        assert_eq!(p.integrator, IntegratorKind::Whitted);
+        assert_eq!((p.width, p.height, p.seed), (DEFAULT_SIZE, DEFAULT_SIZE, 0));
+        assert_eq!((p.builder, p.layout), (BuilderKind::default(), LayoutKind::default()));
+        assert_eq!((p.scene_path, p.output), (PathBuf::from("room.obj"), PathBuf::from("room.png")));
+        assert!(p.shard.is_none() && p.resumed.is_none());
+    }
+
+    #[test]
+    fn a_plan_takes_each_flag_given() {
+        let p = plan(&["room.obj", "-o", "x.exr", "--width", "64", "--height", "48", "--seed", "7", "--layout", "wide", "--builder", "sah"]).unwrap();
+        assert_eq!((p.width, p.height, p.seed, p.layout, p.builder), (64, 48, 7, LayoutKind::Wide, BuilderKind::Sah));
+    }
+
+    #[test]
+    fn a_path_tracer_flag_selects_the_path_tracer_and_whitted_refuses_it() {
+        assert_eq!(plan(&["room.obj", "-o", "x.png", "--time", "5"]).unwrap().integrator, IntegratorKind::Path);
+        let err = plan(&["room.obj", "-o", "x.png", "--time", "5", "--integrator", "whitted"]).err().unwrap().to_string();
+        assert!(err.contains("--time needs --integrator path"), "{err}");
+    }
+
+    #[test]
+    fn a_plan_without_scene_or_output_names_what_is_missing() {
+        let err = plan(&["-o", "x.png"]).err().unwrap().to_string();
+        assert!(err.contains("no scene file given"), "{err}");
+        let err = plan(&["room.obj"]).err().unwrap().to_string();
+        assert!(err.contains("no output given"), "{err}");
+        let err = plan(&["--resume", "/nonexistent/run.ckpt"]).err().unwrap();
+        assert!(format!("{err:#}").contains("/nonexistent/run.ckpt"), "{err:#}");
+    }
+
+    #[test]
+    fn a_shard_plan_writes_its_sums_to_its_own_checkpoint() {
+        let p = plan(&["room.obj", "--integrator", "path", "--spp", "64", "--shard", "1/4", "-o", "part-{shard}.ckpt"]).unwrap();
+        let shard = p.shard.unwrap();
+        assert_eq!((shard.index, shard.count, shard.total_spp), (1, 4, 64));
+        assert_eq!(p.output, PathBuf::from("part-1.ckpt"));
+        let err = plan(&["room.obj", "--integrator", "path", "--spp", "64", "--shard", "1/4", "-o", "x.png"]).err().unwrap().to_string();
+        assert!(err.contains("a shard writes its sums"), "{err}");
+    }
+}
