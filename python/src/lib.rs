@@ -20,6 +20,7 @@ fn _vkrt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::_render, m)?)?;
     m.add_function(wrap_pyfunction!(render::_resume, m)?)?;
     m.add_function(wrap_pyfunction!(render::_merge, m)?)?;
+    m.add_function(wrap_pyfunction!(render::_write_image, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -474,3 +474,38 @@ pub fn _merge<'py>(py: Python<'py>, checkpoints: Vec<PathBuf>, output: Option<Pa
         .py_err()?;
     to_numpy(py, &merged.accum.image())
 }
+
+/// `vkrt.write_image`: see python/vkrt/__init__.py.
+#[pyfunction]
+#[pyo3(signature = (path, image, exposure=None, tonemap=None))]
+pub fn _write_image(py: Python<'_>, path: PathBuf, image: numpy::PyReadonlyArray3<'_, f32>, exposure: Option<String>, tonemap: Option<String>) -> PyResult<()> {
+    use clap::ValueEnum as _;
+    use numpy::PyUntypedArrayMethods as _;
+    let bad = |m: String| Err(pyo3::exceptions::PyValueError::new_err(m));
+    let shape = image.shape().to_vec();
+    let [height, width, 3] = shape[..] else { return bad(format!("the image must have shape (height, width, 3), not {shape:?}")) };
+    let (Ok(w), Ok(h)) = (u32::try_from(width), u32::try_from(height)) else { return bad(format!("image size {width}x{height} is too large")) };
+    if w == 0 || h == 0 {
+        return bad(format!("image size {width}x{height} is empty"));
+    }
+    // The command line's parsers, so that the same words mean the same.
+    let exposure = match exposure {
+        None => Default::default(),
+        Some(e) => match vkrt::cli::args::exposure(&e) {
+            Ok(e) => e,
+            Err(m) => return bad(format!("exposure={e:?}: {m}")),
+        },
+    };
+    let tonemap = match tonemap {
+        None => Default::default(),
+        Some(t) => match vkrt::output::display::Tonemap::from_str(&t, true) {
+            Ok(t) => t,
+            Err(m) => return bad(format!("tonemap={t:?}: {m}")),
+        },
+    };
+    let a = image.as_array();
+    let pixels = (0..h as usize).flat_map(|y| (0..w as usize).map(move |x| (y, x))).map(|(y, x)| [a[[y, x, 0]], a[[y, x, 1]], a[[y, x, 2]]]).collect();
+    let image = Image { width: w, height: h, pixels };
+    let display = vkrt::output::display::Display { exposure, tonemap };
+    py.allow_threads(|| vkrt::output::write_render(&path, &image, &display)).py_err()
+}

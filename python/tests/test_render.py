@@ -120,3 +120,19 @@ def test_an_exception_in_the_callback_stops_the_render_and_is_raised(cornell):
     with pytest.raises(RuntimeError, match="enough"):
         run.add(4096, progress=stop)
     assert 0 < run.spp < 4096, "the samples finished before the stop are kept"
+
+
+def test_write_image_writes_the_clis_files(cli, cornell, tmp_path):
+    scene = vkrt.load_scene(cornell)
+    image = vkrt.render(scene, spp=4, width=32, height=24, progress=False)
+    for name, flags, kwargs in (("a.png", [], {}), ("b.png", ["--exposure", "1.5", "--tonemap", "aces"], {"exposure": 1.5, "tonemap": "aces"}), ("c.pfm", [], {}), ("d.exr", [], {})):
+        cli("render", cornell, "--integrator", "path", "--spp", 4, "--width", 32, "--height", 24, "-o", tmp_path / f"cli-{name}", "-q", *flags)
+        vkrt.write_image(tmp_path / f"py-{name}", image, **kwargs)
+        assert (tmp_path / f"py-{name}").read_bytes() == (tmp_path / f"cli-{name}").read_bytes(), name
+    with pytest.raises(ValueError, match="shape"):
+        vkrt.write_image(tmp_path / "x.png", image[:, :, :2])
+    with pytest.raises(ValueError, match="tonemap"):
+        vkrt.write_image(tmp_path / "x.png", image, tonemap="sepia")
+    with pytest.raises(ValueError, match="unknown image format"):
+        vkrt.write_image(tmp_path / "x.bmp", image)
+    assert not (tmp_path / "x.png").exists()

@@ -25,7 +25,7 @@ import numpy as np
 from . import _vkrt
 from ._vkrt import Progressive, Scene
 
-__all__ = ["Scene", "Progressive", "load_scene", "render", "resume", "merge", "devices", "BUILDERS", "LAYOUTS", "__version__"]
+__all__ = ["Scene", "Progressive", "load_scene", "render", "resume", "merge", "write_image", "devices", "BUILDERS", "LAYOUTS", "__version__"]
 __version__: str = _vkrt.__version__
 
 #: BVH builders (``builder=``), as ``vkrt render --builder`` names them.
@@ -360,3 +360,23 @@ def merge(checkpoints: Sequence[PathLike], output: Optional[PathLike] = None) ->
     ``output`` if given (an image, or a ``.ckpt`` to merge or resume again)."""
     paths = [_path("checkpoints", c) for c in checkpoints]
     return _vkrt._merge([p for p in paths if p is not None], output=_path("output", output))
+
+
+def write_image(path: PathLike, image: Any, exposure: Union[float, str, None] = None, tonemap: Optional[str] = None) -> None:
+    """Write a (height, width, 3) linear image as ``vkrt render`` writes its output, atomically.
+
+    The extension picks the format: ``.png`` (8-bit sRGB after ``exposure`` in stops or
+    ``"auto"``, the default, and ``tonemap``: ``"neutral"`` (default), ``"aces"`` or
+    ``"clamp"``), ``.exr`` or ``.pfm`` (linear float32, as given). For an image from
+    ``render`` the bytes are the command line's for the same settings.
+    """
+    p = _path("path", path)
+    if p is None:
+        raise TypeError("write_image() needs a path")
+    arr = np.asarray(image)
+    if arr.dtype != np.float32:
+        if not np.issubdtype(arr.dtype, np.floating):
+            raise TypeError(f"image must be float32 radiance, not {arr.dtype}")
+        arr = arr.astype(np.float32)
+    ev = None if exposure is None else str(exposure)
+    _vkrt._write_image(p, arr, exposure=ev, tonemap=tonemap)
