@@ -53,6 +53,8 @@ def test_bad_ray_arrays(cornell):
     d = np.ones((4, 3), np.float32)
     with pytest.raises(ValueError, match=r"\(N, 3\)"):
         scene.trace(o[:, :2], d[:, :2])
+    with pytest.raises(ValueError, match="needs directions"):
+        scene.trace(o)
     with pytest.raises(ValueError, match="same shape"):
         scene.trace(o, d[:3])
     with pytest.raises(TypeError, match="float32"):
@@ -124,8 +126,9 @@ def test_the_gil_is_released_while_rendering(cornell):
         time.sleep(0.001)
     t.join()
     elapsed = time.perf_counter() - start
-    # Holding the GIL, the render would leave this thread no turn for its whole length.
-    assert elapsed > 0.2 and ticks > 0.3 * elapsed / 0.0011, (ticks, elapsed)
+    # Holding the GIL, the render would leave this thread no turn for its whole length (a tick
+    # or two at most); released, it ticks every millisecond or so (fewer on a loaded machine).
+    assert elapsed > 0.2 and ticks >= 50, (ticks, elapsed)
 
 
 def test_ctrl_c_stops_a_long_render(cornell):

@@ -258,6 +258,8 @@ def _trace(
     and layout. Raises ``ValueError`` for wrong shapes and non-finite or zero rays.
     """
     if directions is None:
+        if np.ndim(origins) == 2 and np.shape(origins)[1] == 3:
+            raise ValueError("trace() needs directions beside (N, 3) origins, or one (N, 8) array of rays")
         rays = _array("rays", origins, np.float32, 8)
         return _hits(self._trace_packed(rays, any_hit=bool(any_hit), layout=layout))
     o = _array("origins", origins, np.float32, 3)
