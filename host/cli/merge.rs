@@ -24,15 +24,14 @@ pub struct MergeArgs {
 }
 
 /// Whether `path` names a checkpoint output (.ckpt).
-fn is_checkpoint(path: &Path) -> bool {
+pub fn is_checkpoint(path: &Path) -> bool {
     path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("ckpt"))
 }
 
-pub fn run(args: &MergeArgs) -> Result<()> {
-    if !is_checkpoint(&args.output) {
-        output::ImageFormat::from_path(&args.output).context("-o names neither an image nor a checkpoint (.ckpt)")?;
-    }
-    let mut iter = args.inputs.iter();
+/// The checkpoints in `inputs`, read and added into the first (`Checkpoint::merge`'s rules:
+/// the same render, other seeds or other shards). Shared with the Python package's `merge`.
+pub fn read_and_merge(inputs: &[PathBuf]) -> Result<Checkpoint> {
+    let mut iter = inputs.iter();
     let Some(first) = iter.next() else { bail!("nothing to merge") };
     let mut merged = Checkpoint::read(first)?;
     for p in iter {
@@ -40,6 +39,14 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         let names = (first.display().to_string(), p.display().to_string());
         merged.merge(&c, (&names.0, &names.1)).with_context(|| format!("merging {} into {}", p.display(), first.display()))?;
     }
+    Ok(merged)
+}
+
+pub fn run(args: &MergeArgs) -> Result<()> {
+    if !is_checkpoint(&args.output) {
+        output::ImageFormat::from_path(&args.output).context("-o names neither an image nor a checkpoint (.ckpt)")?;
+    }
+    let merged = read_and_merge(&args.inputs)?;
     if let Some(missing) = merged.settings.shards.as_ref().and_then(|s| s.missing_message()) {
         if !is_checkpoint(&args.output) {
             bail!("{missing}: the shards given are not the whole run (merge them into a .ckpt to add the rest later)");

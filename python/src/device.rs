@@ -33,11 +33,15 @@ fn opened() -> &'static Mutex<Vec<(usize, &'static Device)>> {
     OPENED.get_or_init(|| Mutex::new(Vec::new()))
 }
 
+/// `VKRT_DEVICE`, where set and not empty (the command line's `--device` default).
+fn device_from_env() -> Option<String> {
+    std::env::var("VKRT_DEVICE").ok().filter(|s| !s.is_empty())
+}
+
 /// The device `wanted` names (an index or part of a name, as `--device`), else `VKRT_DEVICE`,
 /// else the default (a discrete GPU, else the best other device: lavapipe without a GPU).
 pub fn open(wanted: Option<&str>) -> Result<&'static Device> {
-    let from_env = std::env::var("VKRT_DEVICE").ok().filter(|s| !s.is_empty());
-    let wanted = wanted.map(str::to_string).or(from_env);
+    let wanted = wanted.map(str::to_string).or_else(device_from_env);
     let infos = list_devices()?;
     let index = choose_device(&infos, wanted.as_deref())?;
     let mut opened = opened().lock().unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -55,7 +59,7 @@ pub fn open(wanted: Option<&str>) -> Result<&'static Device> {
 pub fn devices(py: Python<'_>) -> PyResult<Vec<Py<PyDict>>> {
     use crate::errors::IntoPy;
     let infos = list_devices().py_err()?;
-    let chosen = choose_device(&infos, std::env::var("VKRT_DEVICE").ok().filter(|s| !s.is_empty()).as_deref()).ok();
+    let chosen = choose_device(&infos, device_from_env().as_deref()).ok();
     infos
         .iter()
         .map(|d| {

@@ -448,31 +448,25 @@ pub fn _resume(py: Python<'_>, checkpoint: PathBuf, device: Option<String>) -> P
 #[pyfunction]
 #[pyo3(signature = (checkpoints, output=None))]
 pub fn _merge<'py>(py: Python<'py>, checkpoints: Vec<PathBuf>, output: Option<PathBuf>) -> PyResult<Bound<'py, PyArray3<f32>>> {
-    let merged = py
-        .allow_threads(|| -> Result<Checkpoint> {
-            let mut iter = checkpoints.iter();
-            let Some(first) = iter.next() else { bail!("nothing to merge: give checkpoint files") };
-            let mut merged = Checkpoint::read(first)?;
-            for p in iter {
-                let c = Checkpoint::read(p)?;
-                let names = (first.display().to_string(), p.display().to_string());
-                merged.merge(&c, (&names.0, &names.1))?;
-            }
-            let is_ckpt = output.as_ref().and_then(|o| o.extension()).is_some_and(|e| e.eq_ignore_ascii_case("ckpt"));
+    let image = py
+        .allow_threads(|| -> Result<Image> {
+            let merged = vkrt::cli::merge::read_and_merge(&checkpoints)?;
+            let is_ckpt = output.as_deref().is_some_and(vkrt::cli::merge::is_checkpoint);
             if let Some(missing) = merged.settings.shards.as_ref().and_then(|s| s.missing_message()) {
                 if !is_ckpt {
                     bail!("{missing}: the shards given are not the whole run");
                 }
             }
+            let image = merged.accum.image();
             match &output {
                 Some(o) if is_ckpt => merged.write(o)?,
-                Some(o) => vkrt::output::write_render(o, &merged.accum.image(), &vkrt::output::display::Display::default())?,
+                Some(o) => vkrt::output::write_render(o, &image, &vkrt::output::display::Display::default())?,
                 None => {}
             }
-            Ok(merged)
+            Ok(image)
         })
         .py_err()?;
-    to_numpy(py, &merged.accum.image())
+    to_numpy(py, &image)
 }
 
 /// `vkrt.write_image`: see python/vkrt/__init__.py.
