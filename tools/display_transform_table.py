@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The table of docs/experiments/display-transform.md: for linear .pfm renders, the automatic
-exposure (log-average luminance to 0.18) and what clamp and PBR Neutral do at EV 0 and at it.
+exposure (log-average luminance to 0.18, capped so that the 95th percentile of the lit
+pixels' luminance stays at or below 1) and what clamp and PBR Neutral do at EV 0 and at it.
 The same arithmetic as host/output/display.rs. Usage: display_transform_table.py IMAGE.pfm..."""
 import struct,sys,math
 def pfm(f):
@@ -17,7 +18,8 @@ print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
 for f in sys.argv[1:]:
     v=pfm(f); px=[v[i:i+3] for i in range(0,len(v),3)]
     lum=[0.2126*p[0]+0.7152*p[1]+0.0722*p[2] for p in px]; pos=[l for l in lum if l>1e-6]
-    key=math.exp(sum(math.log(l) for l in pos)/len(pos)); s=0.18/key
+    key=math.exp(sum(math.log(l) for l in pos)/len(pos))
+    p95=sorted(pos)[int(0.95*(len(pos)-1))]; s=min(0.18/key, 1/p95)
     def frac(scale): return 100*sum(1 for x in v if x*scale>=1)/len(v)
     def sat(scale):
         out=[neutral([c*scale for c in p]) for p in px]

@@ -175,8 +175,8 @@ pub struct CameraArgs {
 #[derive(Debug, Args, Default)]
 pub struct DisplayArgs {
     /// Exposure in stops: the image is scaled by 2^EV before the display transform; `auto`
-    /// maps the image's log-average luminance to middle grey 0.18; 0 shows the radiance as it
-    /// is [default: auto].
+    /// maps the image's log-average luminance to middle grey 0.18, unless that would push the
+    /// brightest 5 % of pixels past 1; 0 shows the radiance as it is [default: auto].
     #[arg(help_heading = "Output", long, value_parser = exposure, allow_negative_numbers = true, value_name = "EV|auto")]
     pub exposure: Option<Exposure>,
     /// Display transform for 8-bit outputs: neutral (Khronos PBR Neutral: colours below 0.76

@@ -10,7 +10,8 @@ pub enum Exposure {
     /// Exposure value in stops (0: the radiance as it is).
     Ev(f32),
     /// The EV that maps the image's log-average luminance to middle grey 0.18 (Reinhard et al.
-    /// 2002, "Photographic tone reproduction for digital images", the "key" of the scene).
+    /// 2002, "Photographic tone reproduction for digital images", the "key" of the scene), but
+    /// never so bright that the 95th percentile of luminance passes 1 ([`HIGHLIGHT_PERCENTILE`]).
     Auto,
 }
 
@@ -39,6 +40,10 @@ pub enum Tonemap {
     Clamp,
 }
 
+/// Automatic exposure maps this percentile of the lit pixels' luminance to at most 1
+/// (docs/experiments/display-transform.md, "Highlights").
+pub const HIGHLIGHT_PERCENTILE: f64 = 0.95;
+
 /// Luminance of linear Rec. 709 / sRGB primaries.
 fn luminance(c: [f32; 3]) -> f32 {
     0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
@@ -50,20 +55,21 @@ impl Exposure {
         match self {
             Exposure::Ev(ev) => ev.exp2(),
             Exposure::Auto => {
-                // Log-average over finite pixels; black ones are left out (a black background
-                // would otherwise pull the key to zero).
-                let (mut sum, mut n) = (0.0f64, 0u64);
-                for p in &image.pixels {
-                    let l = luminance(*p);
-                    if l.is_finite() && l > 1e-6 {
-                        sum += (l as f64).ln();
-                        n += 1;
-                    }
-                }
-                if n == 0 {
+                // Over finite pixels; black ones are left out (a black background would
+                // otherwise pull the key to zero).
+                let mut lit: Vec<f32> = image.pixels.iter().map(|p| luminance(*p)).filter(|l| l.is_finite() && *l > 1e-6).collect();
+                if lit.is_empty() {
                     return 1.0;
                 }
-                (0.18 / (sum / n as f64).exp()) as f32
+                let log_sum: f64 = lit.iter().map(|l| f64::from(*l).ln()).sum();
+                let key = 0.18 / (log_sum / lit.len() as f64).exp();
+                // A small lit object in a dark frame (White Oak's trunk among its shadowed
+                // leaves) has a low log-average and would be pushed far past white: the key
+                // gives way where the brightest 5 % of pixels would pass 1, above the tone
+                // curve's knee, so they keep their detail.
+                let k = ((lit.len() - 1) as f64 * HIGHLIGHT_PERCENTILE).floor() as usize;
+                let (_, highlight, _) = lit.select_nth_unstable_by(k, f32::total_cmp);
+                key.min(1.0 / f64::from(*highlight)) as f32
             }
         }
     }
@@ -146,5 +152,23 @@ mod tests {
         // Log-average 4: scale 0.18 / 4.
         assert!((Exposure::Auto.scale(&image) - 0.045).abs() < 1e-6);
         assert_eq!(Exposure::Ev(2.0).scale(&image), 4.0);
+    }
+
+    #[test]
+    fn auto_exposure_keeps_a_small_bright_object_below_white() {
+        // 90 dark pixels and 10 lit ones: the key alone (log-average 0.01^0.9) would scale by
+        // 11.4 and put the lit tenth at 11.4, far past white.
+        let mut pixels = vec![[0.01f32; 3]; 90];
+        pixels.extend([[1.0f32; 3]; 10]);
+        let image = Image { width: 100, height: 1, pixels };
+        let scale = Exposure::Auto.scale(&image);
+        assert!((scale - 1.0).abs() < 1e-6, "{scale}");
+        assert!(pbr_neutral([scale; 3])[0] < 0.9);
+        // Where the brightest 5 % are dark enough, the key decides, as before.
+        let mut pixels = vec![[0.01f32; 3]; 98];
+        pixels.extend([[1.0f32; 3]; 2]);
+        let image = Image { width: 100, height: 1, pixels };
+        let key = 0.18 / (0.98 * 0.01f64.ln()).exp();
+        assert!((f64::from(Exposure::Auto.scale(&image)) - key).abs() < 1e-4 * key);
     }
 }
