@@ -1,4 +1,4 @@
-//! The ray setup's correctly rounded division (`div_rn`, shaders/include/intersect.glsl), run on
+//! The ray setup's correctly rounded division (`div_rn`, shaders/include/division.glsl), run on
 //! the device by shaders/test/division_probe.comp with the correction forced on: every quotient
 //! in its range is the CPU's IEEE one, bit for bit, including on lavapipe, whose own division is
 //! already IEEE (so the correction must leave a rounded quotient unchanged), and from quotients

@@ -120,7 +120,7 @@ shared_constants! {
     SPEC_WORKGROUP_1D = 12;
     /// Specialization constant id: 1 where the device's division may be off by ulps, so the
     /// ray setup and the triangle test correct their quotients to the rounded ones the CPU twin
-    /// computes (`div_rn`, shaders/include/intersect.glsl); 0 on lavapipe, whose division is
+    /// computes (`div_rn`, shaders/include/division.glsl); 0 on lavapipe, whose division is
     /// IEEE already. Set for every pipeline from `gpu::DeviceInfo::divides_exactly`.
     SPEC_CORRECT_DIVISION = 17;
     /// How many triangles the triangle list holds (`GpuPush::list_count`): the tracing shaders
