@@ -101,6 +101,8 @@ fn the_rule_is_one_way_and_the_foundations_know_no_gpu_format() {
     }
     assert!(!rule["scene"].contains("bvh") && !rule["bvh"].contains("scene"), "scene and bvh may import each other");
     assert!(!rule["integrator"].contains("scene"), "integrators may reach back to the CPU scene");
+    // Files are output's (checkpoints included): an integrator hands over sums and images.
+    assert!(!rule["integrator"].contains("files") && !rule["integrator"].contains("bytes"), "integrators may write files");
     // Depth-first search for a cycle.
     fn visit(m: &str, rule: &BTreeMap<String, BTreeSet<String>>, path: &mut Vec<String>, done: &mut BTreeSet<String>) {
         if done.contains(m) {

@@ -263,7 +263,7 @@ pub fn resumed_sums(c: &Checkpoint, path: &Path, run: &PathRun, ours: &RunSettin
                  textures, sky and camera cannot be checked",
                 path.display()
             ));
-            let fnv = crate::integrator::path::checkpoint::fnv1a_file(Path::new(&run.scene_path))?;
+            let fnv = crate::output::checkpoint::fnv1a_file(Path::new(&run.scene_path))?;
             RunSettings { identity: Identity::SceneFile { fnv }, ..ours.clone() }
         }
         Identity::Inputs { .. } => ours.clone(),

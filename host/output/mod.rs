@@ -1,9 +1,11 @@
 //! Images and data out of (and into) files: PNG, EXR and PFM images ([`image`]) and how an
-//! image becomes an 8-bit picture ([`display`]), the `.npy` ray
+//! image becomes an 8-bit picture ([`display`]), the path tracer's checkpoint files
+//! ([`checkpoint`]), the `.npy` ray
 //! and hit files of `vkrt trace` ([`npy`]), image comparison ([`compare`]) and traversal heat
 //! maps ([`heatmap`]). Every file is written to a temporary beside the target and renamed into
 //! place.
 
+pub mod checkpoint;
 pub mod compare;
 pub mod display;
 pub mod heatmap;

@@ -7,19 +7,22 @@
 //! and sky faces, `scene::LoadStats::inputs`), the `--sky` override is the same, and so are
 //! the size and sampling settings. Only the seeds may differ (they are what a merge adds).
 //!
-//! The byte format is checkpoint_format.rs's.
-//! Written to a temporary file beside the target and renamed into place, so a crash never
-//! leaves a half-written checkpoint under the real name.
+//! The file (its format, and its write: to a temporary file beside the target, renamed into
+//! place, so a crash never leaves a half-written checkpoint under the real name) is
+//! `output::checkpoint`'s.
 
 use super::accumulation::Accumulation;
-use super::checkpoint_format::VERSION_BEFORE_INPUTS;
 use super::shard::ShardSet;
 use anyhow::{bail, Context as _, Result};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Numbers a checkpoint stores for the camera: eye, target, up, vertical field of view in
 /// degrees, aperture radius, focus distance.
 pub const CAMERA_NUMBERS: usize = 12;
+
+/// The last checkpoint format whose identity was the scene file's FNV-1a hash alone
+/// ([`Identity::SceneFile`]); `output::checkpoint` reads and writes the formats.
+pub const VERSION_BEFORE_INPUTS: u32 = 3;
 
 /// One file a scene was loaded from, and the xxh3 hash of its content.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -198,11 +201,6 @@ pub fn camera_flags(c: &[f32; CAMERA_NUMBERS]) -> String {
     s
 }
 
-/// The FNV-1a hash of a file's content: the identity checkpoints before format 4 stored.
-pub fn fnv1a_file(path: &Path) -> Result<u64> {
-    Ok(fnv1a(&std::fs::read(path).with_context(|| format!("reading {} to hash it", path.display()))?))
-}
-
 /// Settings plus sums.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Checkpoint {
@@ -211,16 +209,6 @@ pub struct Checkpoint {
 }
 
 impl Checkpoint {
-    /// Writes atomically: a temporary file beside `path`, then a rename.
-    pub fn write(&self, path: &Path) -> Result<()> {
-        crate::files::write_whole(path, |tmp| Ok(std::fs::write(tmp, self.to_bytes())?)).with_context(|| format!("writing checkpoint {}", path.display()))
-    }
-
-    pub fn read(path: &Path) -> Result<Self> {
-        let data = std::fs::read(path).with_context(|| format!("reading checkpoint {}", path.display()))?;
-        Self::from_bytes(&data).with_context(|| format!("checkpoint {}", path.display()))
-    }
-
     /// Adds `other`'s samples: the same render, and either other seeds (whole runs) or other
     /// shards of the same sharded run (`super::shard`); anything else would count samples
     /// twice or mix runs. `names` say which is which in messages.
@@ -250,11 +238,62 @@ impl Checkpoint {
     }
 }
 
+/// A small run's checkpoint for the tests of the checkpoint's rules and of its file format
+/// (`output::checkpoint`).
+#[cfg(test)]
+pub(crate) fn example(seed: u32) -> Checkpoint {
+    let mut accum = Accumulation::new(3, 2);
+    accum.samples = 5;
+    accum.even_samples = 3;
+    for (i, p) in accum.even.iter_mut().enumerate() {
+        *p = [i as u64, 1 << 23, u64::from(seed) << 24];
+    }
+    accum.odd[1] = [7, 0, 1];
+    accum.counts = vec![[5, 0]; 6];
+    accum.counts[2][1] = 1;
+    let settings = RunSettings {
+        scene_path: "a.yaml".into(),
+        identity: Identity::Inputs {
+            inputs: vec![InputHash { path: "a.yaml".into(), hash: 42 }, InputHash { path: "a.obj".into(), hash: 43 }],
+            sky: String::new(),
+            camera: [0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 45.0, 0.0, 0.0],
+        },
+        width: 3,
+        height: 2,
+        seeds: vec![seed],
+        integrator: "path".into(),
+        sampler: crate::gpu_abi::constants::SAMPLER_SOBOL,
+        sample_rate: 4,
+        zsobol_log2: 6,
+        max_depth: u32::MAX,
+        nee: 1,
+        coherence: 8,
+        coherence_block: 32,
+        shards: None,
+        resume: ResumeDefaults {
+            output: "/x/a.exr".into(),
+            builder: "sah".into(),
+            layout: "threaded".into(),
+            spp: Some(64),
+            seconds: None,
+            target_relmse: Some(1e-3),
+        },
+    };
+    Checkpoint { settings, accum }
+}
+
+/// A checkpoint as vkrt wrote it before format 4: identified by the scene file's hash.
+#[cfg(test)]
+pub(crate) fn example_legacy(seed: u32) -> Checkpoint {
+    let mut c = example(seed);
+    c.settings.identity = Identity::SceneFile { fnv: 42 };
+    c.settings.resume = ResumeDefaults::default();
+    c
+}
+
 #[cfg(test)]
 mod tests {
-    use super::super::checkpoint_format::*;
     use super::*;
-    use crate::bytes::ByteWriter;
 
     impl Checkpoint {
         fn merge_for_test(&mut self, other: &Checkpoint) -> Result<()> {
@@ -262,245 +301,40 @@ mod tests {
         }
     }
 
-    fn sample(seed: u32) -> Checkpoint {
-        let mut accum = Accumulation::new(3, 2);
-        accum.samples = 5;
-        accum.even_samples = 3;
-        for (i, p) in accum.even.iter_mut().enumerate() {
-            *p = [i as u64, 1 << 23, u64::from(seed) << 24];
-        }
-        accum.odd[1] = [7, 0, 1];
-        accum.counts = vec![[5, 0]; 6];
-        accum.counts[2][1] = 1;
-        let settings = RunSettings {
-            scene_path: "a.yaml".into(),
-            identity: Identity::Inputs {
-                inputs: vec![InputHash { path: "a.yaml".into(), hash: 42 }, InputHash { path: "a.obj".into(), hash: 43 }],
-                sky: String::new(),
-                camera: [0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 45.0, 0.0, 0.0],
-            },
-            width: 3,
-            height: 2,
-            seeds: vec![seed],
-            integrator: "path".into(),
-            sampler: crate::gpu_abi::constants::SAMPLER_SOBOL,
-            sample_rate: 4,
-            zsobol_log2: 6,
-            max_depth: u32::MAX,
-            nee: 1,
-            coherence: 8,
-            coherence_block: 32,
-            shards: None,
-            resume: ResumeDefaults {
-                output: "/x/a.exr".into(),
-                builder: "sah".into(),
-                layout: "threaded".into(),
-                spp: Some(64),
-                seconds: None,
-                target_relmse: Some(1e-3),
-            },
-        };
-        Checkpoint { settings, accum }
-    }
-
-    #[test]
-    fn round_trips_and_rejects_damage() {
-        let c = sample(7);
-        let bytes = c.to_bytes();
-        assert_eq!(Checkpoint::from_bytes(&bytes).ok().as_ref(), Some(&c));
-        assert!(Checkpoint::from_bytes(&bytes[..bytes.len() - 1]).is_err(), "truncated data accepted");
-        let mut bad = bytes.clone();
-        bad[0] = b'X';
-        assert!(Checkpoint::from_bytes(&bad).is_err(), "bad magic accepted");
-    }
-
-    #[test]
-    fn a_damaged_size_is_an_error_before_any_allocation_for_it() {
-        let bytes = sample(7).to_bytes();
-        // magic, version, the scene path (length and bytes), the scene hash: then width, height.
-        let at = 8 + 4 + 4 + "a.yaml".len() + 8;
-        assert_eq!(bytes[at..at + 8], [3, 0, 0, 0, 2, 0, 0, 0]);
-        let mut bad = bytes.clone();
-        bad[at..at + 8].copy_from_slice(&[u32::MAX.to_le_bytes(), u32::MAX.to_le_bytes()].concat());
-        // Without the check this would ask for 2^64 x 56 bytes of sums.
-        let e = format!("{:#}", Checkpoint::from_bytes(&bad).unwrap_err());
-        assert!(e.contains("truncated") && e.contains("4294967295x4294967295"), "{e}");
-    }
-
-    /// A checkpoint as vkrt wrote it before format 4: identified by the scene file's hash.
-    fn legacy(seed: u32) -> Checkpoint {
-        let mut c = sample(seed);
-        c.settings.identity = Identity::SceneFile { fnv: 42 };
-        c.settings.resume = ResumeDefaults::default();
-        c
-    }
-
-    /// The bytes vkrt wrote in `version` (1 to 3: no inputs, float sums) for `c`'s settings,
-    /// with float sums `sum` and `even` (rgb + dropped, rgb + count) per pixel.
-    fn legacy_bytes(c: &Checkpoint, version: u32, sum: &[[f32; 4]], even: &[[f32; 4]]) -> Vec<u8> {
-        let s = &c.settings;
-        let mut out = ByteWriter::default();
-        out.raw(MAGIC);
-        out.raw(&version.to_le_bytes());
-        out.str_u32(&s.scene_path);
-        let Identity::SceneFile { fnv } = s.identity else { panic!("a legacy identity") };
-        out.raw(&fnv.to_le_bytes());
-        for v in [s.width, s.height, s.seeds.len() as u32].iter().chain(&s.seeds) {
-            out.raw(&v.to_le_bytes());
-        }
-        out.str_u32(&s.integrator);
-        let mut words = vec![s.sampler, s.sample_rate, s.max_depth, s.nee];
-        if version > VERSION_BEFORE_COHERENCE {
-            words.push(s.coherence);
-        }
-        for v in words {
-            out.raw(&v.to_le_bytes());
-        }
-        out.raw(&c.accum.samples.to_le_bytes());
-        out.raw(&c.accum.even_samples.to_le_bytes());
-        for x in sum.iter().chain(even).flatten() {
-            out.raw(&x.to_le_bytes());
-        }
-        if version > VERSION_BEFORE_ADAPTIVE {
-            out.raw(&[0u8; 8]);
-        }
-        out.into_inner()
-    }
-
-    /// `c`'s bytes as format `version` writes them: the last `drop` of the settings words
-    /// (coherence_block, zsobol_log2) left out.
-    fn without_last_setting_words(c: &Checkpoint, drop: usize, version: u32) -> Vec<u8> {
-        let bytes = c.to_bytes();
-        let s = &c.settings;
-        let words: Vec<u8> =
-            [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block, s.zsobol_log2].iter().flat_map(|v| v.to_le_bytes()).collect();
-        let end = bytes.windows(words.len()).position(|w| w == words.as_slice()).expect("the settings words") + words.len();
-        let mut old = [&bytes[..end - 4 * drop], &bytes[end..]].concat();
-        old[8..12].copy_from_slice(&version.to_le_bytes());
-        old
-    }
-
-    /// Format-6 files (before `coherence_block`) read as coherence groups in a row, the only
-    /// kind there was.
-    #[test]
-    fn format_6_reads_as_coherence_in_rows() {
-        let c = sample(5);
-        let read = Checkpoint::from_bytes(&without_last_setting_words(&c, 2, VERSION_BEFORE_COHERENCE_BLOCK)).unwrap();
-        assert_eq!(read.settings.coherence, 8);
-        assert_eq!(read.settings.coherence_block, 0);
-        assert_eq!(read.accum, c.accum);
-    }
-
-    /// Format-7 files (before the Z-ordered sampler) read with set size 0, which their samplers
-    /// never read; everything else is as written.
-    #[test]
-    fn format_7_reads_without_zsobol_sets() {
-        let c = sample(5);
-        let read = Checkpoint::from_bytes(&without_last_setting_words(&c, 1, VERSION_BEFORE_ZSOBOL)).unwrap();
-        assert_eq!(read.settings.zsobol_log2, 0);
-        assert_eq!((read.settings.coherence, read.settings.coherence_block), (8, 32));
-        assert_eq!(read.accum, c.accum);
-    }
-
-    /// Format-3 files (the scene file's hash alone, float sums) and version-1 files (before
-    /// `coherence` was stored: read as coherence 1) still read, their sums in fixed point.
-    #[test]
-    fn reads_older_formats() {
-        let mut c = legacy(3);
-        c.settings.coherence = 8;
-        c.settings.coherence_block = 0;
-        c.settings.zsobol_log2 = 0;
-        let sum = vec![[3.0f32, 0.5, 0.0, 1.0]; 6];
-        let even = vec![[1.0f32, 0.25, 0.0, 0.0]; 6];
-        let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_INPUTS, &sum, &even)).unwrap();
-        assert_eq!(read.settings, c.settings);
-        assert_eq!(read.accum.even[0], [1 << 24, 1 << 22, 0]);
-        assert_eq!(read.accum.odd[0], [2 << 24, 1 << 22, 0]);
-        // Uniform runs kept no per-pixel count: the run's count; the dropped sample is kept.
-        assert_eq!(read.accum.counts[0], [5, 1]);
-        let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_COHERENCE, &sum, &even)).unwrap();
-        assert_eq!(read.settings.coherence, 1);
-        assert_eq!(read.accum.image().pixels[0], [3.0 / 5.0, 0.1, 0.0]);
-        let mut future = sample(3).to_bytes();
-        future[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
-        assert!(Checkpoint::from_bytes(&future).is_err(), "a newer version was accepted");
-    }
-
-    /// A run read from a format-3 file keeps its weaker identity when written again (what
-    /// `vkrt merge` of two such runs into a .ckpt does): the file reads back as it was written,
-    /// resume defaults included.
-    #[test]
-    fn a_scene_file_identity_round_trips() {
-        let mut c = legacy(4);
-        c.settings.resume.output = "out.exr".into();
-        c.settings.resume.spp = Some(64);
-        let read = Checkpoint::from_bytes(&c.to_bytes()).unwrap();
-        assert_eq!(read.settings, c.settings);
-        assert_eq!(read.accum, c.accum);
-    }
-
-    #[test]
-    fn shards_round_trip_and_merge_into_the_whole_run() {
-        use crate::integrator::path::shard::{Shard, ShardSet};
-        let part = |i: u32| {
-            let mut c = sample(9);
-            c.settings.shards = Some(ShardSet::of(Shard::new(i, 3, 16).unwrap()));
-            c
-        };
-        let a = part(0);
-        assert_eq!(Checkpoint::from_bytes(&a.to_bytes()).ok().as_ref(), Some(&a));
-        let mut m = part(2);
-        m.merge_for_test(&part(0)).unwrap();
-        assert_eq!(m.settings.shards.as_ref().and_then(|s| s.missing_message()).as_deref(), Some("shard 1 of 3 is missing (numbered from 0)"));
-        assert!(m.clone().merge_for_test(&part(0)).is_err(), "a shard twice");
-        assert!(m.clone().merge_for_test(&sample(9)).is_err(), "a shard and a whole run");
-        m.merge_for_test(&part(1)).unwrap();
-        assert_eq!(m.settings.shards, None, "all shards make the whole run");
-        assert_eq!(m.accum.samples, 15);
-    }
-
-    #[test]
-    fn adaptive_fields_round_trip() {
-        let mut c = sample(4);
-        c.accum.per_pixel = true;
-        c.accum.rates = vec![2, 4, 32];
-        assert_eq!(Checkpoint::from_bytes(&c.to_bytes()).ok().as_ref(), Some(&c));
-    }
-
     #[test]
     fn merge_needs_the_same_render_and_new_seeds() {
-        let mut a = sample(1);
-        assert!(a.merge_for_test(&sample(1)).is_err(), "merged a seed with itself");
+        let mut a = example(1);
+        assert!(a.merge_for_test(&example(1)).is_err(), "merged a seed with itself");
         // Any input file's content, or the sky, makes it another render, named in the error.
-        let mut other = sample(2);
+        let mut other = example(2);
         if let Identity::Inputs { inputs, .. } = &mut other.settings.identity {
             inputs[1].hash = 44;
         }
         let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
         assert!(format!("{e:#}").contains("a.obj changed"), "{e:#}");
-        let mut other = sample(2);
+        let mut other = example(2);
         if let Identity::Inputs { sky, .. } = &mut other.settings.identity {
             *sky = "1,1,1".into();
         }
         let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
         assert!(format!("{e:#}").contains("sky differs"), "{e:#}");
-        let mut other = sample(2);
+        let mut other = example(2);
         if let Identity::Inputs { camera, .. } = &mut other.settings.identity {
             camera[9] = 50.0;
         }
         let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
         assert!(format!("{e:#}").contains("camera differs") && format!("{e:#}").contains("--fov 50"), "{e:#}");
-        let mut other = sample(2);
+        let mut other = example(2);
         other.settings.sampler = crate::gpu_abi::constants::SAMPLER_INDEPENDENT;
         let e = a.merge_for_test(&other).map(|_| ()).unwrap_err();
         assert!(format!("{e:#}").contains("sampler differs: sobol") && format!("{e:#}").contains("independent"), "{e:#}");
-        assert!(a.merge_for_test(&legacy(2)).is_err(), "merged a format-3 checkpoint with a format-4 one");
-        let mut old = legacy(1);
-        let mut changed = legacy(2);
+        assert!(a.merge_for_test(&example_legacy(2)).is_err(), "merged a format-3 checkpoint with a format-4 one");
+        let mut old = example_legacy(1);
+        let mut changed = example_legacy(2);
         changed.settings.identity = Identity::SceneFile { fnv: 7 };
         assert!(old.merge_for_test(&changed).is_err(), "merged format-3 checkpoints of different scene files");
-        assert!(old.merge_for_test(&legacy(2)).is_ok());
-        a.merge_for_test(&sample(2)).ok();
+        assert!(old.merge_for_test(&example_legacy(2)).is_ok());
+        a.merge_for_test(&example(2)).ok();
         assert_eq!(a.accum.samples, 10);
         assert_eq!(a.settings.seeds, vec![1, 2]);
         assert_eq!(a.accum.even[1], [2, 1 << 24, 3 << 24]);
@@ -511,11 +345,11 @@ mod tests {
     /// are independent, so the sum is an unbiased estimate; the first run's size stays.
     #[test]
     fn runs_of_other_set_sizes_merge() {
-        let mut a = sample(1);
-        let mut other = sample(2);
+        let mut a = example(1);
+        let mut other = example(2);
         other.settings.zsobol_log2 = a.settings.zsobol_log2 + 2;
         a.merge_for_test(&other).unwrap();
         assert_eq!(a.settings.seeds, vec![1, 2]);
-        assert_eq!(a.settings.zsobol_log2, sample(1).settings.zsobol_log2);
+        assert_eq!(a.settings.zsobol_log2, example(1).settings.zsobol_log2);
     }
 }

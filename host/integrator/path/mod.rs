@@ -7,7 +7,6 @@ pub mod accumulation;
 pub mod adaptive;
 pub mod batch;
 pub mod checkpoint;
-mod checkpoint_format;
 pub mod coherence;
 pub mod connections;
 pub mod params;

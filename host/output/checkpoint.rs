@@ -1,6 +1,6 @@
-//! The checkpoint's byte format: what `Checkpoint::to_bytes` writes and `Checkpoint::from_bytes`
-//! reads, every version since the first (checkpoint.rs holds what a checkpoint is, the identity
-//! and the merge rules).
+//! The checkpoint file: what `Checkpoint::to_bytes` writes and `Checkpoint::from_bytes` reads,
+//! every version since the first, and the file's atomic write and its read
+//! (`integrator::path::checkpoint` holds what a checkpoint is, its identity and merge rules).
 //!
 //! Format (little-endian): magic `VKRTCKPT`, version u32, then the settings (strings as u32
 //! length + UTF-8), (version 5) the shards held (count u32, 0 for a whole run; total spp u64;
@@ -17,28 +17,28 @@
 //! again (resumed or merged) keeps the hash in the slot and writes the identity block empty. Version 8 stores `zsobol_log2` after `coherence_block`
 //! (read as 0 from older files, whose samplers did not read it).
 
-use super::accumulation::{Accumulation, FIXED_UNIT};
-use super::checkpoint::{Checkpoint, Identity, InputHash, ResumeDefaults, RunSettings, CAMERA_NUMBERS};
-use super::shard::ShardSet;
 use crate::bytes::{ByteReader, ByteWriter};
+use crate::integrator::path::accumulation::{Accumulation, FIXED_UNIT};
+pub use crate::integrator::path::checkpoint::VERSION_BEFORE_INPUTS;
+use crate::integrator::path::checkpoint::{fnv1a, Checkpoint, Identity, InputHash, ResumeDefaults, RunSettings, CAMERA_NUMBERS};
+use crate::integrator::path::shard::ShardSet;
 use anyhow::{bail, Context as _, Result};
+use std::path::Path;
 
-pub(super) const MAGIC: &[u8; 8] = b"VKRTCKPT";
-pub(super) const VERSION: u32 = 8;
+pub const MAGIC: &[u8; 8] = b"VKRTCKPT";
+pub const VERSION: u32 = 8;
 /// The last format before `zsobol_log2` was stored (read as 0: no Z-ordered sampler then).
-pub(super) const VERSION_BEFORE_ZSOBOL: u32 = 7;
+pub const VERSION_BEFORE_ZSOBOL: u32 = 7;
 /// The last format before `coherence_block` was stored (read as 0: coherence groups in a row).
-pub(super) const VERSION_BEFORE_COHERENCE_BLOCK: u32 = 6;
+pub const VERSION_BEFORE_COHERENCE_BLOCK: u32 = 6;
 /// The last format whose camera had no lens (ten numbers; read as a pinhole).
-pub(super) const VERSION_BEFORE_LENS: u32 = 5;
+pub const VERSION_BEFORE_LENS: u32 = 5;
 /// The last format with float sums and no shards (still read).
-pub(super) const VERSION_BEFORE_FIXED: u32 = 4;
+pub const VERSION_BEFORE_FIXED: u32 = 4;
 /// The format before `coherence` was stored (still read, as coherence 1).
-pub(super) const VERSION_BEFORE_COHERENCE: u32 = 1;
+pub const VERSION_BEFORE_COHERENCE: u32 = 1;
 /// The format before adaptive runs (still read, as a uniform run).
-pub(super) const VERSION_BEFORE_ADAPTIVE: u32 = 2;
-/// The last format whose identity was the scene file's FNV-1a hash alone.
-pub(super) const VERSION_BEFORE_INPUTS: u32 = 3;
+pub const VERSION_BEFORE_ADAPTIVE: u32 = 2;
 
 /// Float sums of checkpoint formats 1 to 4 (`sum`: rgb and dropped; `even`: rgb of the
 /// even-indexed samples and, adaptive runs, the pixel's count) in fixed point, rounded.
@@ -103,6 +103,16 @@ fn floats(r: &mut ByteReader, count: usize, field: &str) -> Result<Vec<[f32; 4]>
 }
 
 impl Checkpoint {
+    /// Writes atomically: a temporary file beside `path`, then a rename.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        crate::files::write_whole(path, |tmp| Ok(std::fs::write(tmp, self.to_bytes())?)).with_context(|| format!("writing checkpoint {}", path.display()))
+    }
+
+    pub fn read(path: &Path) -> Result<Self> {
+        let data = std::fs::read(path).with_context(|| format!("reading checkpoint {}", path.display()))?;
+        Self::from_bytes(&data).with_context(|| format!("checkpoint {}", path.display()))
+    }
+
     pub fn to_bytes(&self) -> Vec<u8> {
         let s = &self.settings;
         let mut out = ByteWriter::with_capacity(256 + self.accum.even.len() * 56);
@@ -299,5 +309,172 @@ impl Checkpoint {
             },
             accum: Accumulation { samples, even_samples, per_pixel, rates, ..accum },
         })
+    }
+}
+
+/// The FNV-1a hash of a file's content: the identity checkpoints before format 4 stored.
+pub fn fnv1a_file(path: &Path) -> Result<u64> {
+    Ok(fnv1a(&std::fs::read(path).with_context(|| format!("reading {} to hash it", path.display()))?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::path::checkpoint::{example, example_legacy};
+
+    #[test]
+    fn round_trips_and_rejects_damage() {
+        let c = example(7);
+        let bytes = c.to_bytes();
+        assert_eq!(Checkpoint::from_bytes(&bytes).ok().as_ref(), Some(&c));
+        assert!(Checkpoint::from_bytes(&bytes[..bytes.len() - 1]).is_err(), "truncated data accepted");
+        let mut bad = bytes.clone();
+        bad[0] = b'X';
+        assert!(Checkpoint::from_bytes(&bad).is_err(), "bad magic accepted");
+    }
+
+    #[test]
+    fn a_damaged_size_is_an_error_before_any_allocation_for_it() {
+        let bytes = example(7).to_bytes();
+        // magic, version, the scene path (length and bytes), the scene hash: then width, height.
+        let at = 8 + 4 + 4 + "a.yaml".len() + 8;
+        assert_eq!(bytes[at..at + 8], [3, 0, 0, 0, 2, 0, 0, 0]);
+        let mut bad = bytes.clone();
+        bad[at..at + 8].copy_from_slice(&[u32::MAX.to_le_bytes(), u32::MAX.to_le_bytes()].concat());
+        // Without the check this would ask for 2^64 x 56 bytes of sums.
+        let e = format!("{:#}", Checkpoint::from_bytes(&bad).unwrap_err());
+        assert!(e.contains("truncated") && e.contains("4294967295x4294967295"), "{e}");
+    }
+
+    /// The bytes vkrt wrote in `version` (1 to 3: no inputs, float sums) for `c`'s settings,
+    /// with float sums `sum` and `even` (rgb + dropped, rgb + count) per pixel.
+    fn legacy_bytes(c: &Checkpoint, version: u32, sum: &[[f32; 4]], even: &[[f32; 4]]) -> Vec<u8> {
+        let s = &c.settings;
+        let mut out = ByteWriter::default();
+        out.raw(MAGIC);
+        out.raw(&version.to_le_bytes());
+        out.str_u32(&s.scene_path);
+        let Identity::SceneFile { fnv } = s.identity else { panic!("a legacy identity") };
+        out.raw(&fnv.to_le_bytes());
+        for v in [s.width, s.height, s.seeds.len() as u32].iter().chain(&s.seeds) {
+            out.raw(&v.to_le_bytes());
+        }
+        out.str_u32(&s.integrator);
+        let mut words = vec![s.sampler, s.sample_rate, s.max_depth, s.nee];
+        if version > VERSION_BEFORE_COHERENCE {
+            words.push(s.coherence);
+        }
+        for v in words {
+            out.raw(&v.to_le_bytes());
+        }
+        out.raw(&c.accum.samples.to_le_bytes());
+        out.raw(&c.accum.even_samples.to_le_bytes());
+        for x in sum.iter().chain(even).flatten() {
+            out.raw(&x.to_le_bytes());
+        }
+        if version > VERSION_BEFORE_ADAPTIVE {
+            out.raw(&[0u8; 8]);
+        }
+        out.into_inner()
+    }
+
+    /// `c`'s bytes as format `version` writes them: the last `drop` of the settings words
+    /// (coherence_block, zsobol_log2) left out.
+    fn without_last_setting_words(c: &Checkpoint, drop: usize, version: u32) -> Vec<u8> {
+        let bytes = c.to_bytes();
+        let s = &c.settings;
+        let words: Vec<u8> =
+            [s.sampler, s.sample_rate, s.max_depth, s.nee, s.coherence, s.coherence_block, s.zsobol_log2].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let end = bytes.windows(words.len()).position(|w| w == words.as_slice()).expect("the settings words") + words.len();
+        let mut old = [&bytes[..end - 4 * drop], &bytes[end..]].concat();
+        old[8..12].copy_from_slice(&version.to_le_bytes());
+        old
+    }
+
+    /// Format-6 files (before `coherence_block`) read as coherence groups in a row, the only
+    /// kind there was.
+    #[test]
+    fn format_6_reads_as_coherence_in_rows() {
+        let c = example(5);
+        let read = Checkpoint::from_bytes(&without_last_setting_words(&c, 2, VERSION_BEFORE_COHERENCE_BLOCK)).unwrap();
+        assert_eq!(read.settings.coherence, 8);
+        assert_eq!(read.settings.coherence_block, 0);
+        assert_eq!(read.accum, c.accum);
+    }
+
+    /// Format-7 files (before the Z-ordered sampler) read with set size 0, which their samplers
+    /// never read; everything else is as written.
+    #[test]
+    fn format_7_reads_without_zsobol_sets() {
+        let c = example(5);
+        let read = Checkpoint::from_bytes(&without_last_setting_words(&c, 1, VERSION_BEFORE_ZSOBOL)).unwrap();
+        assert_eq!(read.settings.zsobol_log2, 0);
+        assert_eq!((read.settings.coherence, read.settings.coherence_block), (8, 32));
+        assert_eq!(read.accum, c.accum);
+    }
+
+    /// Format-3 files (the scene file's hash alone, float sums) and version-1 files (before
+    /// `coherence` was stored: read as coherence 1) still read, their sums in fixed point.
+    #[test]
+    fn reads_older_formats() {
+        let mut c = example_legacy(3);
+        c.settings.coherence = 8;
+        c.settings.coherence_block = 0;
+        c.settings.zsobol_log2 = 0;
+        let sum = vec![[3.0f32, 0.5, 0.0, 1.0]; 6];
+        let even = vec![[1.0f32, 0.25, 0.0, 0.0]; 6];
+        let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_INPUTS, &sum, &even)).unwrap();
+        assert_eq!(read.settings, c.settings);
+        assert_eq!(read.accum.even[0], [1 << 24, 1 << 22, 0]);
+        assert_eq!(read.accum.odd[0], [2 << 24, 1 << 22, 0]);
+        // Uniform runs kept no per-pixel count: the run's count; the dropped sample is kept.
+        assert_eq!(read.accum.counts[0], [5, 1]);
+        let read = Checkpoint::from_bytes(&legacy_bytes(&c, VERSION_BEFORE_COHERENCE, &sum, &even)).unwrap();
+        assert_eq!(read.settings.coherence, 1);
+        assert_eq!(read.accum.image().pixels[0], [3.0 / 5.0, 0.1, 0.0]);
+        let mut future = example(3).to_bytes();
+        future[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
+        assert!(Checkpoint::from_bytes(&future).is_err(), "a newer version was accepted");
+    }
+
+    /// A run read from a format-3 file keeps its weaker identity when written again (what
+    /// `vkrt merge` of two such runs into a .ckpt does): the file reads back as it was written,
+    /// resume defaults included.
+    #[test]
+    fn a_scene_file_identity_round_trips() {
+        let mut c = example_legacy(4);
+        c.settings.resume.output = "out.exr".into();
+        c.settings.resume.spp = Some(64);
+        let read = Checkpoint::from_bytes(&c.to_bytes()).unwrap();
+        assert_eq!(read.settings, c.settings);
+        assert_eq!(read.accum, c.accum);
+    }
+
+    #[test]
+    fn shards_round_trip_and_merge_into_the_whole_run() {
+        use crate::integrator::path::shard::{Shard, ShardSet};
+        let part = |i: u32| {
+            let mut c = example(9);
+            c.settings.shards = Some(ShardSet::of(Shard::new(i, 3, 16).unwrap()));
+            c
+        };
+        let a = part(0);
+        assert_eq!(Checkpoint::from_bytes(&a.to_bytes()).ok().as_ref(), Some(&a));
+        let mut m = part(2);
+        m.merge(&part(0), ("a", "b")).unwrap();
+        assert_eq!(m.settings.shards.as_ref().and_then(|s| s.missing_message()).as_deref(), Some("shard 1 of 3 is missing (numbered from 0)"));
+        assert!(m.clone().merge(&part(0), ("a", "b")).is_err(), "a shard twice");
+        assert!(m.clone().merge(&example(9), ("a", "b")).is_err(), "a shard and a whole run");
+        m.merge(&part(1), ("a", "b")).unwrap();
+        assert_eq!(m.settings.shards, None, "all shards make the whole run");
+        assert_eq!(m.accum.samples, 15);
+    }
+
+    #[test]
+    fn adaptive_fields_round_trip() {
+        let mut c = example(4);
+        c.accum.per_pixel = true;
+        c.accum.rates = vec![2, 4, 32];
+        assert_eq!(Checkpoint::from_bytes(&c.to_bytes()).ok().as_ref(), Some(&c));
     }
 }
