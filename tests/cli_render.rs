@@ -431,3 +431,30 @@ fn compare_says_its_verdict_warns_of_mixed_encodings_and_names_downsample() {
     fails(&vkrt(&["compare", &big, &a]), "--downsample");
     ok(&vkrt(&["compare", &big, &a, "--downsample"]));
 }
+
+/// The lab Cornell box with its blocks as `Instances` renders the same bytes as with them as
+/// `Models`: an identity and a translation place exactly as Models' Translation does.
+#[test]
+fn instances_render_as_the_models_they_stand_for() {
+    let dir = common::scratch_dir("cli-instances");
+    let lab = common::repo_path("scenes/lab/cornell_box");
+    for mesh in ["wall.obj", "left.obj", "right.obj", "tall_block.obj", "short_block.obj"] {
+        std::fs::copy(lab.join(mesh), dir.join(mesh)).unwrap();
+    }
+    // The lab's files have CRLF line ends.
+    let original = std::fs::read_to_string(lab.join("cornell_box.yaml")).unwrap().replace("\r\n", "\n");
+    let models =
+        original.replace("  - Mesh: short_block.obj\n    Material: box\n", "  - Mesh: short_block.obj\n    Material: box\n    Translation: [10, 0, -20]\n");
+    assert_ne!(models, original, "the short block's entry was not found");
+    let blocks = "  - Mesh: tall_block.obj\n    Material: box\n  - Mesh: short_block.obj\n    Material: box\n    Translation: [10, 0, -20]\n";
+    let instanced = models.replace(blocks, "")
+        + "Instances:\n  - Mesh: tall_block.obj\n    Material: box\n    Transforms: [{}]\n  - Mesh: short_block.obj\n    Material: box\n    Transforms:\n      - Translation: [10, 0, -20]\n";
+    assert!(!instanced.contains("Mesh: tall_block.obj\n    Material: box\n  - Mesh"), "the blocks are still Models");
+    std::fs::write(dir.join("models.yaml"), models).unwrap();
+    std::fs::write(dir.join("instanced.yaml"), instanced).unwrap();
+    let render = |scene: &str, out: &str| {
+        ok(&vkrt(&["render", &file(&dir, scene), "-o", &file(&dir, out), "--width", "48", "--height", "48"]));
+        std::fs::read(dir.join(out)).unwrap()
+    };
+    assert_eq!(render("models.yaml", "m.pfm"), render("instanced.yaml", "i.pfm"));
+}

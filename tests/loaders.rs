@@ -780,3 +780,115 @@ fn inputs_that_are_not_regular_files_are_errors_naming_them() {
     let (text, _) = load_err(&yaml);
     assert!(text.contains("mesh.obj") && text.contains("a directory is not a regular file"), "{text}");
 }
+
+// ---------------------------------------------------------------- YAML instances
+
+const INSTANCES_YAML: &str = "\
+Materials:
+  - Name: m
+Lights:
+  - Type: Point
+    Position: [0, 2, 2]
+    Intensity: [3, 3, 3]
+Instances:
+  - Mesh: tri.obj
+    Material: m
+    Transforms:
+      - Translation: [1, 1, 1]
+        Scale: [2, -1, 1]
+      - Rotation: [0, 90, 0]
+        Scale: 2
+      - Matrix: [0, 0, 2, 10,  0, 2, 0, 0,  -2, 0, 0, 0]
+";
+
+#[test]
+fn yaml_instances_place_one_copy_per_transform() {
+    let s = load(&yaml_scene("yaml_instances", INSTANCES_YAML));
+    assert!(s.stats.warnings.is_empty(), "{:?}", s.stats.warnings);
+    assert_eq!(s.triangles.len(), 3);
+    // Scale and translation place exactly as Models' Scale and Translation (GOOD_YAML's test):
+    // the mirror's winding flipped back.
+    let models = load(&yaml_scene("yaml_instances_models", GOOD_YAML));
+    assert_eq!(s.triangles[0].p, models.triangles[0].p);
+    assert!(s.triangles[0].cross().dot(s.triangles[0].n.unwrap()[0]) > 0.0);
+    // Scale 2, then 90 degrees about y: x -> -z, and the normal +z -> +x.
+    let t = &s.triangles[1];
+    assert!(close(t.p[1], Vec3::new(0.0, 0.0, -2.0)) && close(t.p[2], Vec3::new(0.0, 2.0, 0.0)), "{:?}", t.p);
+    assert!(close(t.n.unwrap()[0], Vec3::X), "{:?}", t.n);
+    // The same by rows, then 10 along x.
+    let m = &s.triangles[2];
+    for k in 0..3 {
+        assert!(close(m.p[k], t.p[k] + Vec3::new(10.0, 0.0, 0.0)), "{:?} vs {:?}", m.p, t.p);
+    }
+    assert!(s.triangles.iter().all(|t| t.material == 0));
+}
+
+#[test]
+fn yaml_instances_without_a_material_take_the_mtl_s() {
+    let yaml = "Instances:\n  - Mesh: box.obj\n    Transforms:\n      - Translation: [0, 0, 0]\n      - Translation: [3, 0, 0]\n";
+    let obj = b"mtllib box.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let path = write_files("yaml_instances_mtl", &[("scene.yaml", yaml.as_bytes()), ("box.obj", obj), ("box.mtl", b"newmtl red\nKd 0.8 0.1 0.1\n")]);
+    let s = load(&path);
+    assert_eq!(s.triangles.len(), 2);
+    // One copy of the MTL's materials for all the mesh's copies.
+    assert_eq!(s.materials.iter().filter(|m| m.name == "red").count(), 1);
+    assert_eq!(s.triangles[0].material, s.triangles[1].material);
+    assert_eq!(s.triangles[1].p[1], Vec3::new(4.0, 0.0, 0.0));
+}
+
+#[test]
+fn yaml_bad_instances_name_the_key() {
+    let cases = [
+        (
+            "yaml_inst_matrix_len",
+            "Matrix: [0, 0, 2, 10,  0, 2, 0, 0,  -2, 0, 0, 0]",
+            "Matrix: [1, 0, 0, 0, 1, 0, 0, 0, 1]",
+            "key Instances[0].Transforms[2].Matrix",
+            "12 or 16",
+        ),
+        (
+            "yaml_inst_projective",
+            "Matrix: [0, 0, 2, 10,  0, 2, 0, 0,  -2, 0, 0, 0]",
+            "Matrix: [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  0, 0, 1, 1]",
+            "key Instances[0].Transforms[2].Matrix",
+            "projective",
+        ),
+        ("yaml_inst_singular", "Scale: 2", "Scale: 0", "key Instances[0].Transforms[1]", "singular"),
+        ("yaml_inst_both", "      - Matrix:", "      - Scale: 3\n        Matrix:", "key Instances[0].Transforms[2].Scale", "either Matrix"),
+        ("yaml_inst_rotation", "Rotation: [0, 90, 0]", "Rotation: 90", "key Instances[0].Transforms[1].Rotation", "list of 3"),
+        ("yaml_inst_no_transforms", "    Transforms:\n", "    Transform:\n", "key Instances[0].Transforms", "missing"),
+        ("yaml_inst_material", "    Material: m\n", "    Material: wood\n", "key Instances[0].Material", "no material named 'wood'"),
+        ("yaml_inst_mesh", "  - Mesh: tri.obj\n", "  - Mesh: tree.obj\n", "key Instances[0].Mesh", "not found"),
+    ];
+    for (test, from, to, key, what) in cases {
+        let yaml = INSTANCES_YAML.replace(from, to);
+        assert_ne!(yaml, INSTANCES_YAML, "{test}: nothing replaced");
+        let text = assert_located(&yaml_scene(test, &yaml), key);
+        assert!(text.contains(what), "{test}: '{what}' not in: {text}");
+    }
+}
+
+#[test]
+fn yaml_instances_past_the_bound_are_refused_with_the_count_before_copying() {
+    // 4097 copies of a 66,248-triangle grid (182 x 182 quads) make 271 M triangles, past
+    // 2^28: refused from the count, without the ~40 GB the copies would take.
+    let n = 182;
+    let mut obj = String::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            obj += &format!("v {x} {y} 0\n");
+        }
+    }
+    for y in 0..n {
+        for x in 0..n {
+            let v = y * (n + 1) + x + 1;
+            obj += &format!("f {v} {} {}\nf {} {} {}\n", v + 1, v + n + 2, v, v + n + 2, v + n + 1);
+        }
+    }
+    let copies = 4097;
+    let yaml = format!("Materials:\n  - Name: m\nInstances:\n  - Mesh: grid.obj\n    Material: m\n    Transforms: [{}{{}}]\n", "{}, ".repeat(copies - 1));
+    let path = write_files("yaml_inst_bound", &[("scene.yaml", yaml.as_bytes()), ("grid.obj", obj.as_bytes())]);
+    let text = assert_located(&path, "key Instances[0].Transforms");
+    let triangles = 2 * n * n;
+    assert!(text.contains(&format!("{copies} copies of a {triangles}-triangle mesh")) && text.contains("at most 268435456"), "{text}");
+}

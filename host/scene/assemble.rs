@@ -8,6 +8,13 @@ use glam::Vec3;
 use super::{Camera, Light, Scene, Triangle};
 use crate::error::InputError;
 
+/// The most triangles a scene may place (glTF node placements, the lab YAML's `Instances`).
+/// Each placement of a mesh is expanded into a copy of its triangles (about 110-160 bytes each
+/// on the host before the BVH is built), so 2^28 of them take 30-40 GiB: more than the machines
+/// vkrt is for. A file of many placements of one large mesh is refused with its count before
+/// a triangle is copied.
+pub const MAX_PLACED_TRIANGLES: u64 = 1 << 28;
+
 /// Adds triangles to the scene in order, dropping zero-area ones (counted in `stats`) and
 /// shading normals that cannot be normalised (zero, NaN, inf) for that triangle.
 pub fn push_triangles(scene: &mut Scene, triangles: impl IntoIterator<Item = Triangle>) {

@@ -5,8 +5,22 @@
 //! type or a missing file is an error. yaml-rust2 keeps no positions for nodes, so only YAML
 //! syntax errors carry a line and column.
 //!
-//! Triangle order (= primitive ids): `Models`, then `ComplexModels`, each in file order, then
-//! one triangle per `Area` light, so model ids do not depend on the light list.
+//! Triangle order (= primitive ids): `Models`, then `ComplexModels`, then `Instances` (each
+//! instance's copies in the order of its `Transforms`), each in file order, then one triangle
+//! per `Area` light, so model ids do not depend on the light list.
+//!
+//! `Instances` is vkrt's addition to the course format: a mesh and a list of transforms, one
+//! copy per transform (docs/reference.md, "Instances"):
+//!
+//! ```yaml
+//! Instances:
+//!   - Mesh: tree.obj          # with its MTL's materials, or with `Material: Name` as in Models
+//!     Transforms:
+//!       - Translation: [0, 0, 0]
+//!         Rotation: [0, 30, 0]  # degrees about x, then y, then z
+//!         Scale: 2              # one number or three
+//!       - Matrix: [1, 0, 0, 5,  0, 1, 0, 0,  0, 0, 1, 0]   # by rows: 3x4, or 4x4
+//! ```
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -16,17 +30,20 @@ use glam::Vec3;
 use yaml_rust2::yaml::Hash;
 use yaml_rust2::{Yaml, YamlLoader};
 
-use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT};
+use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT, MAX_PLACED_TRIANGLES};
 use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
+use super::instance::Placement;
 use super::obj::load_obj_meshes;
 use super::{Camera, Light, Material, Scene, Triangle};
 use crate::error::InputError;
 
-const TOP_KEYS: &[&str] = &["Reflection", "AmbientIntensity", "Skyboxes", "Cameras", "Lights", "Materials", "Models", "ComplexModels"];
+const TOP_KEYS: &[&str] = &["Reflection", "AmbientIntensity", "Skyboxes", "Cameras", "Lights", "Materials", "Models", "ComplexModels", "Instances"];
 const CAMERA_KEYS: &[&str] = &["Eye", "Target", "Up", "Fovy", "ZNear", "ZFar"];
 const MATERIAL_KEYS: &[&str] = &["Name", "Blend", "Diffuse", "DiffuseMap", "Specular", "Shininess", "Emission"];
 const MODEL_KEYS: &[&str] = &["Mesh", "Material", "Scale", "Translation"];
 const COMPLEX_MODEL_KEYS: &[&str] = &["Mesh"];
+const INSTANCE_KEYS: &[&str] = &["Mesh", "Material", "Transforms"];
+const TRANSFORM_KEYS: &[&str] = &["Matrix", "Translation", "Rotation", "Scale"];
 
 /// Loads a lab YAML scene with the meshes it names.
 pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
@@ -76,6 +93,9 @@ pub fn load_lab_yaml(path: &Path) -> anyhow::Result<Scene> {
     }
     if let Some(m) = get(root, "ComplexModels") {
         lab.complex_models(m)?;
+    }
+    if let Some(m) = get(root, "Instances") {
+        lab.instances(m, &names)?;
     }
     if let Some(l) = get(root, "Lights") {
         lab.lights(l)?;
@@ -329,30 +349,55 @@ impl Lab<'_> {
             self.check_keys(h, &key, MODEL_KEYS);
             let mesh_key = child(&key, "Mesh");
             let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
-            let mat_key = child(&key, "Material");
-            let mat_name = self.string(self.required(h, &key, "Material")?, &mat_key)?;
-            let material = *names.get(mat_name).ok_or_else(|| {
-                let mut known: Vec<&str> = names.keys().map(String::as_str).collect();
-                known.sort_unstable();
-                self.err(&mat_key, format!("no material named '{mat_name}' (known: {})", known.join(", ")))
-            })?;
+            let material = self.material(self.required(h, &key, "Material")?, &child(&key, "Material"), names)?;
             let scale = get(h, "Scale").map(|s| self.vec3(s, &child(&key, "Scale"))).transpose()?.unwrap_or(Vec3::ONE);
             let shift = get(h, "Translation").map(|t| self.vec3(t, &child(&key, "Translation"))).transpose()?.unwrap_or(Vec3::ZERO);
-            let cache_key = (mesh_path.clone(), material);
-            if !self.meshes.contains_key(&cache_key) {
-                let mesh = load_obj_meshes(&mesh_path, Some(material)).with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
-                for w in mesh.warnings {
-                    self.scene.stats.warn(w);
-                }
-                for p in &mesh.inputs {
-                    self.scene.stats.read_input(p);
-                }
-                self.meshes.insert(cache_key.clone(), mesh.triangles);
-            }
+            let cache_key = self.mesh_with_material(&mesh_path, material, &mesh_key)?;
             let mesh = self.meshes.get(&cache_key).map(Vec::as_slice).unwrap_or_default();
             push_triangles(&mut self.scene, mesh.iter().map(|&t| transform(t, scale, shift)));
         }
         Ok(())
+    }
+
+    /// The index of the material `y` names.
+    fn material(&self, y: &Yaml, key: &str, names: &HashMap<String, u32>) -> anyhow::Result<u32> {
+        let name = self.string(y, key)?;
+        names.get(name).copied().ok_or_else(|| {
+            let mut known: Vec<&str> = names.keys().map(String::as_str).collect();
+            known.sort_unstable();
+            self.err(key, format!("no material named '{name}' (known: {})", known.join(", ")))
+        })
+    }
+
+    /// Reads the mesh at `path` with every triangle's material `material`, once per file and
+    /// material; returns its key in `self.meshes`.
+    fn mesh_with_material(&mut self, path: &Path, material: u32, mesh_key: &str) -> anyhow::Result<(PathBuf, u32)> {
+        let cache_key = (path.to_path_buf(), material);
+        if !self.meshes.contains_key(&cache_key) {
+            let mesh = load_obj_meshes(path, Some(material)).with_context(|| InputError::at_key(self.file, mesh_key, "cannot load the mesh"))?;
+            for w in mesh.warnings {
+                self.scene.stats.warn(w);
+            }
+            for p in &mesh.inputs {
+                self.scene.stats.read_input(p);
+            }
+            self.meshes.insert(cache_key.clone(), mesh.triangles);
+        }
+        Ok(cache_key)
+    }
+
+    /// Reads the mesh at `path` with its MTL's materials, which join the scene's.
+    fn mesh_with_own_materials(&mut self, path: &Path, mesh_key: &str) -> anyhow::Result<Vec<Triangle>> {
+        let mesh = load_obj_meshes(path, None).with_context(|| InputError::at_key(self.file, mesh_key, "cannot load the mesh"))?;
+        for w in mesh.warnings {
+            self.scene.stats.warn(w);
+        }
+        for p in &mesh.inputs {
+            self.scene.stats.read_input(p);
+        }
+        let offset = self.scene.materials.len() as u32;
+        self.scene.materials.extend(mesh.materials);
+        Ok(mesh.triangles.into_iter().map(|t| Triangle { material: t.material + offset, ..t }).collect())
     }
 
     /// `ComplexModels`: meshes with the materials of their own MTL files.
@@ -363,19 +408,72 @@ impl Lab<'_> {
             self.check_keys(h, &key, COMPLEX_MODEL_KEYS);
             let mesh_key = child(&key, "Mesh");
             let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
-            let mesh = load_obj_meshes(&mesh_path, None).with_context(|| InputError::at_key(self.file, &mesh_key, "cannot load the mesh"))?;
-            for w in mesh.warnings {
-                self.scene.stats.warn(w);
-            }
-            for p in &mesh.inputs {
-                self.scene.stats.read_input(p);
-            }
-            let offset = self.scene.materials.len() as u32;
-            self.scene.materials.extend(mesh.materials);
-            let triangles = mesh.triangles.into_iter().map(|t| Triangle { material: t.material + offset, ..t });
+            let triangles = self.mesh_with_own_materials(&mesh_path, &mesh_key)?;
             push_triangles(&mut self.scene, triangles);
         }
         Ok(())
+    }
+
+    /// `Instances`: a mesh (with a named material, or its MTL's) and one copy of it per entry of
+    /// `Transforms`. The copies' triangles are counted against [`MAX_PLACED_TRIANGLES`] before
+    /// any is made.
+    fn instances(&mut self, y: &Yaml, names: &HashMap<String, u32>) -> anyhow::Result<()> {
+        for (i, m) in self.list(y, "Instances")?.iter().enumerate() {
+            let key = format!("Instances[{i}]");
+            let h = self.hash(m, &key)?;
+            self.check_keys(h, &key, INSTANCE_KEYS);
+            let mesh_key = child(&key, "Mesh");
+            let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
+            let transforms_key = child(&key, "Transforms");
+            let entries = self.list(self.required(h, &key, "Transforms")?, &transforms_key)?;
+            let mut placements = Vec::with_capacity(entries.len());
+            for (k, t) in entries.iter().enumerate() {
+                placements.push(self.placement(t, &format!("{transforms_key}[{k}]"))?);
+            }
+            let mesh: Vec<Triangle> = match get(h, "Material") {
+                Some(name) => {
+                    let material = self.material(name, &child(&key, "Material"), names)?;
+                    let cache_key = self.mesh_with_material(&mesh_path, material, &mesh_key)?;
+                    self.meshes.get(&cache_key).cloned().unwrap_or_default()
+                }
+                None => self.mesh_with_own_materials(&mesh_path, &mesh_key)?,
+            };
+            let total = self.scene.triangles.len() as u64 + mesh.len() as u64 * placements.len() as u64;
+            if total > MAX_PLACED_TRIANGLES {
+                let msg = format!(
+                    "{} copies of a {}-triangle mesh would make the scene {total} triangles; vkrt copies each instance and takes at most {MAX_PLACED_TRIANGLES}",
+                    placements.len(),
+                    mesh.len()
+                );
+                return Err(self.err(&transforms_key, msg));
+            }
+            for p in &placements {
+                push_triangles(&mut self.scene, mesh.iter().map(|t| p.place(t)));
+            }
+        }
+        Ok(())
+    }
+
+    /// One entry of `Transforms`: `Matrix` (by rows, 12 or 16 numbers), or any of
+    /// `Translation`, `Rotation` (degrees about x, then y, then z) and `Scale` (one number or
+    /// three), applied scale first.
+    fn placement(&mut self, y: &Yaml, key: &str) -> anyhow::Result<Placement> {
+        let h = self.hash(y, key)?;
+        self.check_keys(h, key, TRANSFORM_KEYS);
+        if let Some(m) = get(h, "Matrix") {
+            if let Some(other) = ["Translation", "Rotation", "Scale"].into_iter().find(|k| get(h, k).is_some()) {
+                return Err(self.err(&child(key, other), "give either Matrix or Translation / Rotation / Scale, not both"));
+            }
+            let matrix_key = child(key, "Matrix");
+            let rows = self.numbers(m, &matrix_key, &[12, 16])?;
+            return Placement::from_rows(&rows).map_err(|e| self.err(&matrix_key, e));
+        }
+        let vec = |name: &str, default: Vec3| get(h, name).map(|v| self.vec3(v, &child(key, name))).transpose().map(|v| v.unwrap_or(default));
+        let scale = match get(h, "Scale") {
+            Some(s) if s.as_vec().is_none() => Vec3::splat(self.number(s, &child(key, "Scale"))?),
+            _ => vec("Scale", Vec3::ONE)?,
+        };
+        Placement::from_trs(vec("Translation", Vec3::ZERO)?, vec("Rotation", Vec3::ZERO)?, scale).map_err(|e| self.err(key, e))
     }
 
     fn lights(&mut self, y: &Yaml) -> anyhow::Result<()> {

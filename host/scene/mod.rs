@@ -9,6 +9,7 @@ pub mod camera;
 pub mod envmap;
 pub mod gltf;
 pub mod input_file;
+pub mod instance;
 pub mod lab_yaml;
 pub mod light;
 pub mod load;

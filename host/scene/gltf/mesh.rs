@@ -20,14 +20,8 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::at;
 use super::materials::{transform_uv, MaterialTable};
-use crate::scene::assemble::push_triangle;
+use crate::scene::assemble::{push_triangle, MAX_PLACED_TRIANGLES};
 use crate::scene::{Scene, Triangle};
-
-/// The most triangles a file may place. Each placement of a mesh is expanded into a copy of its
-/// triangles (about 110-160 bytes each on the host before the BVH is built), so 2^28 of them
-/// take 30-40 GiB: more than the machines vkrt is for. A file of many placements of one large
-/// mesh is refused with its count before a triangle is read.
-pub const MAX_PLACED_TRIANGLES: u64 = 1 << 28;
 
 /// Fails, with the count, if the placed meshes would expand into more than
 /// [`MAX_PLACED_TRIANGLES`] triangles (counted from their accessors' element counts).
