@@ -740,3 +740,105 @@ fn a_file_that_places_too_many_triangles_is_refused_with_the_count() {
     let count = 300 * ((1u64 << 20) - 2);
     assert_fails_naming(&path, "nodes", &format!("places 300 meshes with {count} triangles in all"));
 }
+
+/// A node with `EXT_mesh_gpu_instancing` attributes (accessor indices by name).
+fn instancing_node(mesh: json::Index<json::Mesh>, attributes: serde_json::Value) -> json::Node {
+    let mut others = serde_json::Map::new();
+    others.insert("EXT_mesh_gpu_instancing".into(), serde_json::json!({ "attributes": attributes }));
+    json::Node { translation: Some([0.0, 0.0, 5.0]), extensions: Some(json::extensions::scene::Node { others, ..Default::default() }), ..mesh_node(mesh) }
+}
+
+#[test]
+fn ext_mesh_gpu_instancing_draws_the_mesh_once_per_instance_as_child_nodes_would() {
+    let turn = Quat::from_rotation_z(std::f32::consts::FRAC_PI_2).to_array();
+    let translations = [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]];
+    let rotations = [[0.0, 0.0, 0.0, 1.0], turn, [0.0, 0.0, 0.0, 1.0]];
+    let scales = [[1.0, 1.0, 1.0], [2.0, 2.0, 2.0], [1.0, -1.0, 1.0]];
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let (t, r, s) = (doc.vec3(&translations), doc.vec4(&rotations), doc.vec3(&scales));
+    let attributes = serde_json::json!({ "TRANSLATION": t.value(), "ROTATION": r.value(), "SCALE": s.value() });
+    let node = doc.node(instancing_node(mesh, attributes));
+    doc.scene(vec![node]);
+    doc.root.extensions_used.push("EXT_mesh_gpu_instancing".into());
+    let dir = scratch("gpu_instancing");
+    doc.write_gltf(&dir.join("instanced.gltf"), Storage::External("instanced.bin"));
+    let instanced = load_scene(&dir.join("instanced.gltf")).unwrap();
+    assert!(instanced.stats.warnings.is_empty(), "{:?}", instanced.stats.warnings);
+
+    // The same three placements as children of a node at z = 5.
+    let mut doc = Doc::new();
+    let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+    let children: Vec<_> = (0..3)
+        .map(|i| {
+            doc.node(json::Node {
+                translation: Some(translations[i]),
+                rotation: Some(json::scene::UnitQuaternion(rotations[i])),
+                scale: Some(scales[i]),
+                ..mesh_node(mesh)
+            })
+        })
+        .collect();
+    let parent = doc.node(json::Node { translation: Some([0.0, 0.0, 5.0]), children: Some(children), ..Default::default() });
+    doc.scene(vec![parent]);
+    doc.write_gltf(&dir.join("expanded.gltf"), Storage::External("expanded.bin"));
+    let expanded = load_scene(&dir.join("expanded.gltf")).unwrap();
+
+    assert_eq!(instanced.triangles.len(), 3);
+    assert_eq!(expanded.triangles.len(), 3);
+    for (a, b) in instanced.triangles.iter().zip(&expanded.triangles) {
+        for k in 0..3 {
+            assert_near("position", a.p[k], b.p[k]);
+            assert_near("normal", a.n.unwrap()[k], b.n.unwrap()[k]);
+        }
+        // Front faces stay out, the mirrored copy's too.
+        assert!(a.cross().dot(a.n.unwrap()[0]) > 0.0, "{a:?}");
+    }
+    // The turned, doubled copy: (1, 0, 0) -> (0, 2, 0), then moved by (10, 0, 5).
+    assert_near("turned copy", instanced.triangles[1].p[1], Vec3::new(10.0, 2.0, 5.0));
+}
+
+#[test]
+fn bad_ext_mesh_gpu_instancing_is_an_error_naming_the_attribute() {
+    let dir = scratch("gpu_instancing_errors");
+    let at = "nodes[0].extensions.EXT_mesh_gpu_instancing.attributes";
+    type Attributes<'a> = &'a dyn Fn(&mut Doc) -> serde_json::Value;
+    let cases: [(&str, Attributes, String, &str); 4] = [
+        ("rotation_vec3", &|d: &mut Doc| serde_json::json!({ "ROTATION": d.vec3(&[[0.0; 3]; 2]).value() }), format!("{at}.ROTATION"), "FLOAT VEC4"),
+        (
+            "counts",
+            &|d: &mut Doc| serde_json::json!({ "TRANSLATION": d.vec3(&[[0.0; 3]; 2]).value(), "SCALE": d.vec3(&[[1.0; 3]; 3]).value() }),
+            format!("{at}.TRANSLATION"),
+            "one element per instance",
+        ),
+        ("missing_accessor", &|_: &mut Doc| serde_json::json!({ "TRANSLATION": 99 }), format!("{at}.TRANSLATION"), "accessor 99 does not exist"),
+        ("zero_quaternion", &|d: &mut Doc| serde_json::json!({ "ROTATION": d.vec4(&[[0.0; 4]]).value() }), format!("{at}.ROTATION"), "not a rotation"),
+    ];
+    for (name, attributes, location, words) in cases {
+        let mut doc = Doc::new();
+        let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
+        let attributes = attributes(&mut doc);
+        let node = doc.node(instancing_node(mesh, attributes));
+        doc.scene(vec![node]);
+        let path = dir.join(format!("{name}.gltf"));
+        doc.write_gltf(&path, Storage::External("b.bin"));
+        assert_fails_naming(&path, &location, words);
+    }
+}
+
+#[test]
+fn instance_counts_are_in_the_placed_triangle_bound() {
+    use json::mesh::{Mode, Semantic};
+    let mut doc = Doc::new();
+    let p = doc.vec3(&TRI);
+    let strip = doc.indices(&vec![0u32; 1 << 20]);
+    let prim = doc.primitive(&[(Semantic::Positions, p)], Some(strip), None, Mode::TriangleStrip);
+    let mesh = doc.mesh(vec![prim]);
+    let t = doc.vec3(&vec![[0.0; 3]; 300]);
+    let node = doc.node(instancing_node(mesh, serde_json::json!({ "TRANSLATION": t.value() })));
+    doc.scene(vec![node]);
+    let path = scratch("instanced_triangles").join("many.gltf");
+    doc.write_gltf(&path, Storage::External("many.bin"));
+    let count = 300 * ((1u64 << 20) - 2);
+    assert_fails_naming(&path, "nodes", &format!("places 300 meshes with {count} triangles in all"));
+}

@@ -8,7 +8,7 @@ use crate::error::InputError;
 use crate::scene::LoadStats;
 
 /// The extensions the loader implements.
-pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["EXT_mesh_gpu_instancing", "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"];
 
 /// Fails on a required extension vkrt does not implement; warns once for each optional one.
 pub fn check(document: &::gltf::Document, file: &Path, stats: &mut LoadStats) -> anyhow::Result<()> {

@@ -24,20 +24,25 @@ use crate::scene::assemble::{push_triangle, MAX_PLACED_TRIANGLES};
 use crate::scene::{Scene, Triangle};
 
 /// Fails, with the count, if the placed meshes would expand into more than
-/// [`MAX_PLACED_TRIANGLES`] triangles (counted from their accessors' element counts).
-pub fn check_placed_triangles(placed: &[super::nodes::Placed], file: &Path) -> anyhow::Result<()> {
+/// [`MAX_PLACED_TRIANGLES`] triangles (counted from their accessors' element counts, times each
+/// node's `EXT_mesh_gpu_instancing` instance count).
+pub fn check_placed_triangles(placed: &[super::nodes::Placed], document: &::gltf::Document, file: &Path) -> anyhow::Result<()> {
     let mut triangles = 0u64;
     let mut placements = 0u64;
-    for mesh in placed.iter().filter_map(|p| p.node.mesh()) {
-        placements += 1;
+    for p in placed {
+        let Some(mesh) = p.node.mesh() else { continue };
+        let copies = super::instancing::copies(&p.node, document, file)?;
+        placements += copies;
+        let mut mesh_triangles = 0u64;
         for prim in mesh.primitives() {
             let corners = prim.indices().map(|a| a.count()).or_else(|| prim.get(&::gltf::Semantic::Positions).map(|a| a.count())).unwrap_or(0) as u64;
-            triangles += match prim.mode() {
+            mesh_triangles += match prim.mode() {
                 ::gltf::mesh::Mode::Triangles => corners / 3,
                 ::gltf::mesh::Mode::TriangleStrip | ::gltf::mesh::Mode::TriangleFan => corners.saturating_sub(2),
                 _ => 0,
             };
         }
+        triangles = triangles.saturating_add(mesh_triangles.saturating_mul(copies));
     }
     if triangles > MAX_PLACED_TRIANGLES {
         let msg = format!(
@@ -220,7 +225,7 @@ fn check_accessor(a: &::gltf::Accessor, name: &str, types: &[DataType], dimensio
 }
 
 /// glTF's names for component types: "UNSIGNED_BYTE or FLOAT".
-fn type_names(types: &[DataType]) -> String {
+pub(super) fn type_names(types: &[DataType]) -> String {
     let name = |t: &DataType| match t {
         DataType::I8 => "BYTE",
         DataType::U8 => "UNSIGNED_BYTE",

@@ -9,7 +9,8 @@
 //!
 //! What is read: the default scene (`scene`, else `scenes[0]`, else every root node), its node
 //! hierarchy ([`nodes`]), every mesh primitive placed by it ([`mesh`]; a mesh used by several
-//! nodes is expanded once per node: a two-level BVH would instead keep one bottom-level tree per
+//! nodes, or drawn many times by one node through `EXT_mesh_gpu_instancing` ([`instancing`]), is
+//! expanded once per placement: a two-level BVH would instead keep one bottom-level tree per
 //! mesh and a top level of instances, transforming rays into each instance's space), materials
 //! ([`materials`]), `KHR_lights_punctual` lights ([`lights`]) and perspective cameras
 //! ([`cameras`]). Skins, morph targets and animations are not read: the static pose is used.
@@ -23,6 +24,7 @@ mod buffers;
 mod cameras;
 mod extensions;
 mod images;
+mod instancing;
 mod lights;
 mod materials;
 mod mesh;
@@ -66,11 +68,13 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
     let mut images = images::Images::new(&document, &buffers, path, dir);
     let table = materials::convert(&document, path, &mut images, &mut scene)?;
     let placed = nodes::walk(&document, path)?;
-    mesh::check_placed_triangles(&placed, path)?;
+    mesh::check_placed_triangles(&placed, &document, path)?;
     let mut cameras = Vec::new();
     for p in &placed {
         if let Some(mesh) = p.node.mesh() {
-            mesh::add_mesh(&mut scene, &mesh, p.world, &buffers, &table, path)?;
+            for world in instancing::worlds(&p.node, &document, &buffers, p.world, path)? {
+                mesh::add_mesh(&mut scene, &mesh, world, &buffers, &table, path)?;
+            }
         }
         if let Some(camera) = p.node.camera() {
             cameras.extend(cameras::camera(&camera, p.node.index(), p.world, path, &mut scene.stats)?);
