@@ -723,16 +723,21 @@ fn a_zero_field_of_view_is_an_error_naming_the_camera_field() {
     assert_fails_naming(&path, "cameras[0].perspective.yfov", "0 radians is outside (0, pi)");
 }
 
+/// A mesh of 2^20 - 2 (degenerate) triangles in a 4 MB strip.
+fn million_triangle_strip(doc: &mut Doc) -> json::Index<json::Mesh> {
+    use json::mesh::{Mode, Semantic};
+    let p = doc.vec3(&TRI);
+    let strip = doc.indices(&vec![0u32; 1 << 20]);
+    let prim = doc.primitive(&[(Semantic::Positions, p)], Some(strip), None, Mode::TriangleStrip);
+    doc.mesh(vec![prim])
+}
+
 /// A file that places one large mesh many times is refused with the count before a triangle
 /// is copied: 300 placements of a million-triangle strip (a 4 MB file).
 #[test]
 fn a_file_that_places_too_many_triangles_is_refused_with_the_count() {
-    use json::mesh::{Mode, Semantic};
     let mut doc = Doc::new();
-    let p = doc.vec3(&TRI);
-    let strip = doc.indices(&vec![0u32; 1 << 20]);
-    let prim = doc.primitive(&[(Semantic::Positions, p)], Some(strip), None, Mode::TriangleStrip);
-    let mesh = doc.mesh(vec![prim]);
+    let mesh = million_triangle_strip(&mut doc);
     let nodes: Vec<_> = (0..300).map(|_| doc.node(mesh_node(mesh))).collect();
     doc.scene(nodes);
     let path = scratch("placed_triangles").join("many.gltf");
@@ -828,12 +833,8 @@ fn bad_ext_mesh_gpu_instancing_is_an_error_naming_the_attribute() {
 
 #[test]
 fn instance_counts_are_in_the_placed_triangle_bound() {
-    use json::mesh::{Mode, Semantic};
     let mut doc = Doc::new();
-    let p = doc.vec3(&TRI);
-    let strip = doc.indices(&vec![0u32; 1 << 20]);
-    let prim = doc.primitive(&[(Semantic::Positions, p)], Some(strip), None, Mode::TriangleStrip);
-    let mesh = doc.mesh(vec![prim]);
+    let mesh = million_triangle_strip(&mut doc);
     let t = doc.vec3(&vec![[0.0; 3]; 300]);
     let node = doc.node(instancing_node(mesh, serde_json::json!({ "TRANSLATION": t.value() })));
     doc.scene(vec![node]);

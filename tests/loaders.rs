@@ -472,6 +472,17 @@ fn bad_mtl_is_located_in_the_mtl() {
 
 const TRI_OBJ: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n";
 
+/// Each case `(test, from, to, key, what)`: `yaml` with `from` replaced by `to` fails with an
+/// error that names `key` and says `what`.
+fn assert_edits_fail(yaml: &str, cases: &[(&str, &str, &str, &str, &str)]) {
+    for &(test, from, to, key, what) in cases {
+        let edited = yaml.replace(from, to);
+        assert_ne!(edited, yaml, "{test}: nothing replaced");
+        let text = assert_located(&yaml_scene(test, &edited), key);
+        assert!(text.contains(what), "{test}: '{what}' not in: {text}");
+    }
+}
+
 /// Writes a lab YAML scene with a one-triangle mesh beside it.
 fn yaml_scene(test: &str, yaml: &str) -> PathBuf {
     write_files(test, &[("scene.yaml", yaml.as_bytes()), ("tri.obj", TRI_OBJ)])
@@ -595,12 +606,7 @@ fn yaml_wrong_types() {
         ("yaml_bad_camera", "Target: [0, 0, 0]", "Target: [0, 0, 5]", "key Cameras[0]", "degenerate camera"),
         ("yaml_zero_direction", "Direction: [0, -2, 0]", "Direction: [0, 0, 0]", "key Lights[1].Direction", "zero"),
     ];
-    for (test, from, to, key, what) in cases {
-        let yaml = GOOD_YAML.replace(from, to);
-        assert_ne!(yaml, GOOD_YAML, "{test}: nothing replaced");
-        let t = assert_located(&yaml_scene(test, &yaml), key);
-        assert!(t.contains(what), "{test}: {t}");
-    }
+    assert_edits_fail(GOOD_YAML, &cases);
 }
 
 #[test]
@@ -860,12 +866,7 @@ fn yaml_bad_instances_name_the_key() {
         ("yaml_inst_material", "    Material: m\n", "    Material: wood\n", "key Instances[0].Material", "no material named 'wood'"),
         ("yaml_inst_mesh", "  - Mesh: tri.obj\n", "  - Mesh: tree.obj\n", "key Instances[0].Mesh", "not found"),
     ];
-    for (test, from, to, key, what) in cases {
-        let yaml = INSTANCES_YAML.replace(from, to);
-        assert_ne!(yaml, INSTANCES_YAML, "{test}: nothing replaced");
-        let text = assert_located(&yaml_scene(test, &yaml), key);
-        assert!(text.contains(what), "{test}: '{what}' not in: {text}");
-    }
+    assert_edits_fail(INSTANCES_YAML, &cases);
 }
 
 #[test]

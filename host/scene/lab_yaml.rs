@@ -150,6 +150,14 @@ fn describe(y: &Yaml) -> String {
     }
 }
 
+/// An entry of a mesh list: its key path (`Models[2]`), its mapping, its `Mesh` key path and file.
+struct MeshEntry<'y> {
+    key: String,
+    h: &'y Hash,
+    mesh_key: String,
+    mesh_path: PathBuf,
+}
+
 /// The scene being built, and where it comes from.
 struct Lab<'a> {
     file: &'a Path,
@@ -344,11 +352,7 @@ impl Lab<'_> {
     /// `Models`: meshes with a named material, scaled then translated.
     fn models(&mut self, y: &Yaml, names: &HashMap<String, u32>) -> anyhow::Result<()> {
         for (i, m) in self.list(y, "Models")?.iter().enumerate() {
-            let key = format!("Models[{i}]");
-            let h = self.hash(m, &key)?;
-            self.check_keys(h, &key, MODEL_KEYS);
-            let mesh_key = child(&key, "Mesh");
-            let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
+            let MeshEntry { key, h, mesh_key, mesh_path } = self.mesh_entry("Models", i, m, MODEL_KEYS)?;
             let material = self.material(self.required(h, &key, "Material")?, &child(&key, "Material"), names)?;
             let scale = get(h, "Scale").map(|s| self.vec3(s, &child(&key, "Scale"))).transpose()?.unwrap_or(Vec3::ONE);
             let shift = get(h, "Translation").map(|t| self.vec3(t, &child(&key, "Translation"))).transpose()?.unwrap_or(Vec3::ZERO);
@@ -357,6 +361,17 @@ impl Lab<'_> {
             push_triangles(&mut self.scene, mesh.iter().map(|&t| transform(t, scale, shift)));
         }
         Ok(())
+    }
+
+    /// Entry `i` of a list of meshes (`Models`, `ComplexModels`, `Instances`), unknown keys
+    /// warned about, with its `Mesh` file, which must exist.
+    fn mesh_entry<'y>(&mut self, list: &str, i: usize, y: &'y Yaml, known: &[&str]) -> anyhow::Result<MeshEntry<'y>> {
+        let key = format!("{list}[{i}]");
+        let h = self.hash(y, &key)?;
+        self.check_keys(h, &key, known);
+        let mesh_key = child(&key, "Mesh");
+        let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
+        Ok(MeshEntry { key, h, mesh_key, mesh_path })
     }
 
     /// The index of the material `y` names.
@@ -403,11 +418,7 @@ impl Lab<'_> {
     /// `ComplexModels`: meshes with the materials of their own MTL files.
     fn complex_models(&mut self, y: &Yaml) -> anyhow::Result<()> {
         for (i, m) in self.list(y, "ComplexModels")?.iter().enumerate() {
-            let key = format!("ComplexModels[{i}]");
-            let h = self.hash(m, &key)?;
-            self.check_keys(h, &key, COMPLEX_MODEL_KEYS);
-            let mesh_key = child(&key, "Mesh");
-            let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
+            let MeshEntry { mesh_key, mesh_path, .. } = self.mesh_entry("ComplexModels", i, m, COMPLEX_MODEL_KEYS)?;
             let triangles = self.mesh_with_own_materials(&mesh_path, &mesh_key)?;
             push_triangles(&mut self.scene, triangles);
         }
@@ -419,11 +430,7 @@ impl Lab<'_> {
     /// any is made.
     fn instances(&mut self, y: &Yaml, names: &HashMap<String, u32>) -> anyhow::Result<()> {
         for (i, m) in self.list(y, "Instances")?.iter().enumerate() {
-            let key = format!("Instances[{i}]");
-            let h = self.hash(m, &key)?;
-            self.check_keys(h, &key, INSTANCE_KEYS);
-            let mesh_key = child(&key, "Mesh");
-            let mesh_path = self.existing_file(self.required(h, &key, "Mesh")?, &mesh_key)?;
+            let MeshEntry { key, h, mesh_key, mesh_path } = self.mesh_entry("Instances", i, m, INSTANCE_KEYS)?;
             let transforms_key = child(&key, "Transforms");
             let entries = self.list(self.required(h, &key, "Transforms")?, &transforms_key)?;
             let mut placements = Vec::with_capacity(entries.len());
