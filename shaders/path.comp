@@ -27,6 +27,8 @@
 #include "lights.glsl"
 #include "caster_guide.glsl"
 #include "light_connection.glsl"
+#include "path_state.glsl"
+#include "path_mis.glsl"
 #ifdef MIRRORS
 #include "mirror_probe.glsl"
 #include "mirror_light.glsl"
@@ -54,91 +56,34 @@ vec3 next_event(Surface s, Lobes l, Onb f, vec3 wo, Guide g, vec3 origin, inout 
     bsdf_pdf = guide_mix(g, bsdf_pdf, ls.wi);
     rays++;
     if (occluded(origin, ls.span, 0.0, ls.span_tmax, ends_in_scene(ls))) return vec3(0.0);
-    // Delta lights (pdf 0) cannot be hit by BSDF sampling: their weight is 1.
-    float w = 1.0;
-    if (ls.pdf > 0.0) {
-        // The connection's density for this light point and s, as a solid angle at s like the
-        // other two: its area density over arrive_area's, (pA (cos_q / pi) cos_s / d^2) /
-        // arrive_area, times light sampling's ls.pdf = pA d^2 / cos_q.
-        float connect_pdf = 0.0;
-        if (LIGHT_CONNECTIONS && arrive_area > 0.0 && ls.pa > 0.0) connect_pdf = (ls.pa / PI) * dot(s.ng, ls.wi) / arrive_area;
-        // (Without connections the two-way form: the same arithmetic, the same bytes as before.)
-        w = LIGHT_CONNECTIONS ? balance_heuristic3(ls.pdf, bsdf_pdf, connect_pdf) : power_heuristic(ls.pdf, bsdf_pdf);
-    }
-    return fr * wi.z * ls.li_over_pdf * w;
-}
-
-// The solid-angle density with which light sampling would have picked the emitter point of
-// surface s (material m), reached along unit `dir` by a path `dist` long from where light
-// sampling aims: its area density over the projected solid angle. Light sampling weighs an
-// emitter by its emission factor, without the texture.
-float emitter_hit_pdf(Surface s, GpuMaterial m, vec3 dir, float dist) {
-    float cos_light = dot(s.ng, -dir);
-    vec3 ke = HAS_TEXTURES ? load_material(s.material).emission : m.emission;
-    return emitter_area_pdf(ke) * dist * dist / max(cos_light, 1e-12);
+    return fr * wi.z * ls.li_over_pdf * light_sample_weight(ls, s, bsdf_pdf, arrive_area);
 }
 
 // The radiance along the camera ray (origin, dir); `rays` counts the rays traced for it.
 // `first_p_spec` > 0: the mirror lobe's probability at the first hit (mirror_probe.glsl).
 vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float first_p_spec) {
-    vec3 throughput = vec3(1.0);
-    vec3 result = vec3(0.0);
+    PathState ps = path_start();
     bool nee = params.nee != 0u;
-    // Density of the BSDF sample that made the current ray; delta for the camera ray.
-    float prev_pdf = 0.0;
-    bool prev_delta = true;
-#ifdef MIRRORS
-    // When the current ray leaves a planar mirror that a non-delta bounce led to: that bounce's
-    // density times the mirror lobe's probability, and the bounce's distance to the mirror
-    // (the MIS weight against light sampled through the mirror, mirror_light.glsl); else 0.
-    float mirror_pdf = 0.0;
-    float mirror_dist = 0.0;
-#endif
     LightVertex lv;
     lv.valid = false;
     if (LIGHT_CONNECTIONS && nee) lv = light_vertex(smp, rays);
-    // For the light-vertex connections' MIS weights: the area density with which the current
-    // ray's vertex was reached, where the vertex before it made a connection (else 0), and the
-    // geometric cosine of the current ray there.
-    float bounce_arrive = 0.0;
-    float bounce_cos = 0.0;
     for (uint depth = 0u;; depth++) {
         rays++;
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) {
             if (env_present()) {
-                // Light sampling picks the map too: weigh the two by the power heuristic.
-                float w = 1.0;
-                if (nee && !prev_delta) w = power_heuristic(prev_pdf, frame.env_pick_pmf * env_pdf(dir));
-                result += throughput * env_radiance(dir) * w;
+                ps.result += ps.throughput * env_radiance(dir) * env_hit_weight(ps, dir, nee);
             } else if (HAS_SKY) {
                 // No light sampling picks the sky, so BSDF sampling gets it all (MIS weight 1).
-                result += throughput * sky_radiance(dir);
+                ps.result += ps.throughput * sky_radiance(dir);
             }
             break;
         }
         Surface s = surface_at(h, dir);
         GpuMaterial m = material_at(h, s);
         if (HAS_EMITTERS && s.front && (m.flags & MATERIAL_EMISSIVE) != 0u) {
-            float w = 1.0;
             // dir is unit, so h.t is the distance.
-            if (nee && !prev_delta) {
-                float light_pdf = emitter_hit_pdf(s, m, dir, h.t);
-                // The connection from the bounce's vertex, as a solid angle there like the
-                // others: (cos_q / pi) cos / t^2 over bounce_arrive, times the light's density.
-                float connect_pdf = 0.0;
-                if (LIGHT_CONNECTIONS && bounce_arrive > 0.0) connect_pdf = light_pdf * (dot(s.ng, -dir) / PI) * bounce_cos / (h.t * h.t * bounce_arrive);
-                w = LIGHT_CONNECTIONS ? balance_heuristic3(prev_pdf, light_pdf, connect_pdf) : power_heuristic(prev_pdf, light_pdf);
-            }
-#ifdef MIRRORS
-            // Light sampling through that mirror would have aimed at this point from the image
-            // of the bounce's point: the whole path's length, this cosine.
-            else if (nee && mirror_pdf > 0.0) {
-                float light_pdf = emitter_hit_pdf(s, m, dir, mirror_dist + h.t);
-                w = power_heuristic(mirror_pdf, light_pdf / float(params.mirror_count));
-            }
-#endif
-            result += throughput * m.emission * w;
+            ps.result += ps.throughput * m.emission * emitter_hit_weight(ps, s, m, dir, h.t, nee);
         }
         // The next ray (or shadow ray) would be segment depth + 2 of the path.
         if (depth + 1u >= params.max_depth) break;
@@ -159,14 +104,14 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         // The area density with which the last bounce reached s, if the vertex it left made a
         // connection: a surface vertex (depth >= 1) bouncing by a non-delta lobe.
         float arrive = 0.0;
-        if (LIGHT_CONNECTIONS && depth >= 1u && !prev_delta) arrive = prev_pdf * abs(dot(s.ng, dir)) / (h.t * h.t);
+        if (LIGHT_CONNECTIONS && depth >= 1u && !ps.prev_delta) arrive = ps.prev_pdf * abs(dot(s.ng, dir)) / (h.t * h.t);
         if (nee && has_smooth_lobes(l)) {
-            result += throughput * next_event(s, l, f, wo, g, up, smp, rays, arrive);
+            ps.result += ps.throughput * next_event(s, l, f, wo, g, up, smp, rays, arrive);
             // The path x ... s -> y1 -> y0 is segments depth + 2 and depth + 3.
-            if (LIGHT_CONNECTIONS && lv.valid && depth + 2u < params.max_depth) result += throughput * connect_light_vertex(lv, s, l, f, wo, g, up, rays);
+            if (LIGHT_CONNECTIONS && lv.valid && depth + 2u < params.max_depth) ps.result += ps.throughput * connect_light_vertex(lv, s, l, f, wo, g, up, rays);
 #ifdef MIRRORS
             // Its path x -> mirror -> light is segments depth + 2 and depth + 3.
-            if (params.mirror_count > 0u && depth + 2u < params.max_depth) result += throughput * light_through_mirror(s, l, f, wo, g, up, smp, rays);
+            if (params.mirror_count > 0u && depth + 2u < params.max_depth) ps.result += ps.throughput * light_through_mirror(s, l, f, wo, g, up, smp, rays);
 #endif
         }
         float u_lobe = sampler_1d(smp);
@@ -178,18 +123,18 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         // on the ray's side and refraction must cross.
         bool crosses = dot(wi, s.ng) < 0.0;
         if (crosses != (bs.wi.z < 0.0)) break;
-        throughput *= bs.weight;
+        ps.throughput *= bs.weight;
 #ifdef MIRRORS
         bool planar = bs.delta && l.mirror && (m.flags & MATERIAL_PLANAR_MIRROR) != 0u && params.mirror_count > 0u;
-        mirror_pdf = planar && !prev_delta ? prev_pdf * l.p_spec : 0.0;
-        mirror_dist = h.t;
+        ps.mirror_pdf = planar && !ps.prev_delta ? ps.prev_pdf * l.p_spec : 0.0;
+        ps.mirror_dist = h.t;
 #endif
         if (LIGHT_CONNECTIONS) {
-            bounce_arrive = arrive;
-            bounce_cos = abs(dot(s.ng, wi));
+            ps.bounce_arrive = arrive;
+            ps.bounce_cos = abs(dot(s.ng, wi));
         }
-        prev_pdf = bs.pdf;
-        prev_delta = bs.delta;
+        ps.prev_pdf = bs.pdf;
+        ps.prev_delta = bs.delta;
         origin = crosses ? offset_ray(s.p, -s.ng, frame.scene_scale) : up;
         dir = wi;
         if (depth + 1u >= params.rr_depth) {
@@ -201,13 +146,13 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
             // sqrt(t) gave 12 % less relMSE per sample for ~7 % more time (docs/experiments/
             // russian-roulette.md). Either way a survivor's throughput t / q then tends to the
             // albedo a, and q to a: path lengths stay bounded alike.
-            float q = min(sqrt(max3(throughput)), 0.95);
+            float q = min(sqrt(max3(ps.throughput)), 0.95);
             if (sampler_1d(smp) >= q) break;
-            throughput /= q;
+            ps.throughput /= q;
         }
-        if (max3(throughput) <= 0.0) break;
+        if (max3(ps.throughput) <= 0.0) break;
     }
-    return result;
+    return ps.result;
 }
 
 // The adaptive allocation block of `pixel` (integrator::path::adaptive::BlockGrid): with
