@@ -22,6 +22,7 @@
 //!       - Matrix: [1, 0, 0, 5,  0, 1, 0, 0,  0, 0, 1, 0]   # by rows: 3x4, or 4x4
 //! ```
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -33,7 +34,7 @@ use yaml_rust2::{Yaml, YamlLoader};
 use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT, MAX_PLACED_TRIANGLES};
 use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
 use super::instance::Placement;
-use super::obj::load_obj_meshes;
+use super::obj::{load_obj_meshes, ObjMesh};
 use super::{Camera, Light, Material, Scene, Triangle};
 use crate::error::InputError;
 
@@ -384,18 +385,25 @@ impl Lab<'_> {
         })
     }
 
+    /// Reads the mesh at `path` (the key `mesh_key` names it), its warnings and the files it was
+    /// read from going into the scene's statistics.
+    fn read_mesh(&mut self, path: &Path, material: Option<u32>, mesh_key: &str) -> anyhow::Result<ObjMesh> {
+        let mut mesh = load_obj_meshes(path, material).with_context(|| InputError::at_key(self.file, mesh_key, "cannot load the mesh"))?;
+        for w in std::mem::take(&mut mesh.warnings) {
+            self.scene.stats.warn(w);
+        }
+        for p in &mesh.inputs {
+            self.scene.stats.read_input(p);
+        }
+        Ok(mesh)
+    }
+
     /// Reads the mesh at `path` with every triangle's material `material`, once per file and
     /// material; returns its key in `self.meshes`.
     fn mesh_with_material(&mut self, path: &Path, material: u32, mesh_key: &str) -> anyhow::Result<(PathBuf, u32)> {
         let cache_key = (path.to_path_buf(), material);
         if !self.meshes.contains_key(&cache_key) {
-            let mesh = load_obj_meshes(path, Some(material)).with_context(|| InputError::at_key(self.file, mesh_key, "cannot load the mesh"))?;
-            for w in mesh.warnings {
-                self.scene.stats.warn(w);
-            }
-            for p in &mesh.inputs {
-                self.scene.stats.read_input(p);
-            }
+            let mesh = self.read_mesh(path, Some(material), mesh_key)?;
             self.meshes.insert(cache_key.clone(), mesh.triangles);
         }
         Ok(cache_key)
@@ -403,13 +411,7 @@ impl Lab<'_> {
 
     /// Reads the mesh at `path` with its MTL's materials, which join the scene's.
     fn mesh_with_own_materials(&mut self, path: &Path, mesh_key: &str) -> anyhow::Result<Vec<Triangle>> {
-        let mesh = load_obj_meshes(path, None).with_context(|| InputError::at_key(self.file, mesh_key, "cannot load the mesh"))?;
-        for w in mesh.warnings {
-            self.scene.stats.warn(w);
-        }
-        for p in &mesh.inputs {
-            self.scene.stats.read_input(p);
-        }
+        let mesh = self.read_mesh(path, None, mesh_key)?;
         let offset = self.scene.materials.len() as u32;
         self.scene.materials.extend(mesh.materials);
         Ok(mesh.triangles.into_iter().map(|t| Triangle { material: t.material + offset, ..t }).collect())
@@ -437,13 +439,14 @@ impl Lab<'_> {
             for (k, t) in entries.iter().enumerate() {
                 placements.push(self.placement(t, &format!("{transforms_key}[{k}]"))?);
             }
-            let mesh: Vec<Triangle> = match get(h, "Material") {
+            // A named material's mesh is borrowed from the cache `Models` shares, not copied.
+            let mesh: Cow<[Triangle]> = match get(h, "Material") {
                 Some(name) => {
                     let material = self.material(name, &child(&key, "Material"), names)?;
                     let cache_key = self.mesh_with_material(&mesh_path, material, &mesh_key)?;
-                    self.meshes.get(&cache_key).cloned().unwrap_or_default()
+                    Cow::Borrowed(self.meshes.get(&cache_key).map(Vec::as_slice).unwrap_or_default())
                 }
-                None => self.mesh_with_own_materials(&mesh_path, &mesh_key)?,
+                None => Cow::Owned(self.mesh_with_own_materials(&mesh_path, &mesh_key)?),
             };
             let total = self.scene.triangles.len() as u64 + mesh.len() as u64 * placements.len() as u64;
             if total > MAX_PLACED_TRIANGLES {

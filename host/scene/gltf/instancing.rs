@@ -114,7 +114,7 @@ pub fn worlds(node: &::gltf::Node, document: &::gltf::Document, buffers: &[Vec<u
     let mut out = Vec::with_capacity(attrs.count);
     for i in 0..attrs.count {
         let m = world * Mat4::from_scale_rotation_translation(scales[i], rotations[i], translations[i]);
-        if !m.is_finite() || Mat4::from_scale_rotation_translation(scales[i], Quat::IDENTITY, Vec3::ZERO).determinant() == 0.0 {
+        if !m.is_finite() || scales[i].element_product() == 0.0 {
             let msg = format!("instance {i}'s transform is not finite or flattens the mesh (scale {})", scales[i]);
             return Err(at(file, format!("nodes[{}].extensions.{EXTENSION}", node.index()), msg));
         }
