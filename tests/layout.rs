@@ -100,6 +100,7 @@ fn bindings_and_array_strides_match() {
         (BINDING_NODES, "Nodes", size_of::<GpuNode>()),
         (BINDING_TRIANGLES, "Triangles", size_of::<GpuTriangle>()),
         (BINDING_TRIANGLE_LIST, "TriangleList", size_of::<GpuTriangle>()),
+        (BINDING_INSTANCES, "Instances", size_of::<GpuInstance>()),
         (BINDING_SHADING, "Shading", size_of::<GpuShading>()),
         (BINDING_MATERIALS, "Materials", size_of::<GpuMaterial>()),
         (BINDING_LIGHTS, "Lights", size_of::<GpuLight>()),

@@ -14,6 +14,7 @@ pub mod multi_order;
 pub mod parent_link;
 pub mod threaded;
 pub mod triangle_list;
+pub mod two_level;
 pub mod walls;
 pub mod wide;
 
@@ -21,7 +22,7 @@ pub use kinds::{LayoutInfo, LayoutKind, LAYOUTS};
 
 use crate::bvh::{Bvh, MAX_LEAF_SIZE};
 use crate::gpu_abi::constants::{LEAF_COUNT_BITS, PRIM_NONE};
-use crate::gpu_abi::{GpuHit, GpuPush, GpuRay, GpuTriangle};
+use crate::gpu_abi::{GpuHit, GpuInstance, GpuPush, GpuRay, GpuTriangle};
 use crate::scene::Triangle;
 use anyhow::Context as _;
 
@@ -40,6 +41,11 @@ pub trait NodeArray: std::fmt::Debug + Send + Sync {
     /// Writes what this layout's shader reads from the push constants besides the node count
     /// (the compact layout's grid); most layouts need nothing.
     fn fill_push(&self, _push: &mut GpuPush) {}
+    /// The instances a two-level array's top-level leaves name (`two_level`); none for the
+    /// one-level layouts.
+    fn instances(&self) -> &[GpuInstance] {
+        &[]
+    }
 }
 
 /// Declares a layout's node array as a vector of its node struct, walked by the module's own

@@ -1,8 +1,11 @@
 //! `vkrt bvh`: every builder x layout on each scene: build time, nodes, bytes, SAH cost, and for
 //! primary, shadow and diffuse-bounce rays the measured nodes visited and triangles tested per
 //! ray (the GPU's counters) and rays/s on the GPU. `--heatmap` draws nodes visited per pixel.
+//! A scene with instances gets a row per builder for its two-level BVH too (`two-level-threaded`,
+//! `accel::two_level`), and the table a line per such row with each level's counts.
 
-use crate::accel::{self, LayoutKind};
+use crate::accel::two_level::{self, LevelCounts};
+use crate::accel::{self, FlatBvh, LayoutKind};
 use crate::bvh::{self, stats::stats, validate::validate, BuildConfig, BuilderKind};
 use crate::gpu::Context;
 use crate::gpu_abi::{GpuHit, GpuRay};
@@ -88,6 +91,19 @@ pub struct Row {
     pub primary: RayStats,
     pub shadow: RayStats,
     pub diffuse: RayStats,
+    /// A scene with instances also gets a row for its two-level BVH (`accel::two_level`, both
+    /// levels threaded): `nodes` and `bytes` are both levels', `sah` the top level's.
+    pub two_level: Option<LevelCounts>,
+}
+
+impl Row {
+    /// The layout column: the layout's name, or `two-level-threaded`.
+    pub fn layout_name(&self) -> String {
+        match self.two_level {
+            Some(_) => format!("two-level-{}", self.layout.name()),
+            None => self.layout.name().to_string(),
+        }
+    }
 }
 
 /// Time and count one ray set (upload, traversal, read-back): the best of `TIMED_RUNS`, since
@@ -165,10 +181,47 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
                 primary: p,
                 shadow: sh,
                 diffuse: d,
+                two_level: None,
             });
+        }
+        if !scene.instances.is_empty() && layouts.contains(&LayoutKind::Threaded) {
+            rows.push(two_level_row(ctx, &name, scene, builder, args, [&primary, &shadow, &diffuse])?);
         }
     }
     Ok(rows)
+}
+
+/// The row of a scene's two-level BVH built by `builder`, on the same ray sets.
+fn two_level_row(ctx: &Context, name: &str, scene: &Scene, builder: BuilderKind, args: &BvhArgs, [primary, shadow, diffuse]: [&[GpuRay]; 3]) -> Result<Row> {
+    let mut build_ms = f64::INFINITY;
+    let mut built = None;
+    for _ in 0..args.repeat.max(1) {
+        let t = Instant::now();
+        built = Some(two_level::build(scene, builder, &BuildConfig::default())?);
+        build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
+    }
+    let (nodes, triangles) = built.ok_or_else(|| anyhow!("no two-level build"))?;
+    let counts = nodes.counts(triangles.len());
+    let list_first = triangles.len();
+    let flat = FlatBvh { nodes: Box::new(nodes), triangles, list_first };
+    let gpu = GpuBvh::upload(ctx, &flat)?;
+    let query = RayQuery::new(ctx, &gpu)?;
+    query.warm_up()?;
+    let bytes = flat.bytes() + std::mem::size_of_val(flat.nodes.instances());
+    Ok(Row {
+        scene: name.to_string(),
+        triangles: scene.triangles.len(),
+        builder,
+        layout: LayoutKind::Threaded,
+        build_ms,
+        nodes: flat.node_count(),
+        bytes,
+        sah: counts.top_sah,
+        primary: measure(&query, primary, false)?.0,
+        shadow: measure(&query, shadow, true)?.0,
+        diffuse: measure(&query, diffuse, false)?.0,
+        two_level: Some(counts),
+    })
 }
 
 fn heatmap_path(out: &Path, scene: &Path, per_scene: bool) -> PathBuf {
@@ -223,7 +276,7 @@ fn values(r: &Row) -> [String; 17] {
         r.scene.clone(),
         r.triangles.to_string(),
         r.builder.name().to_string(),
-        r.layout.name().to_string(),
+        r.layout_name(),
         f1(r.build_ms),
         r.nodes.to_string(),
         r.bytes.to_string(),
@@ -251,6 +304,24 @@ pub fn format_rows(rows: &[Row], format: Format, device: &str) -> String {
             let _ = writeln!(s, "|{}", "---|".repeat(COLUMNS.len()));
             for r in rows {
                 let _ = writeln!(s, "| {} |", values(r).join(" | "));
+            }
+            for r in rows {
+                if let Some(c) = &r.two_level {
+                    let _ = writeln!(
+                        s,
+                        "{} / {} / {}: {} instances of {} meshes; top level {} nodes (its SAH {:.2}); bottom levels {} nodes over {} triangles (the copies hold {})",
+                        r.scene,
+                        r.builder.name(),
+                        r.layout_name(),
+                        c.instances,
+                        c.meshes,
+                        c.top_nodes,
+                        c.top_sah,
+                        c.bottom_nodes,
+                        c.bottom_triangles,
+                        r.triangles
+                    );
+                }
             }
         }
         Format::Csv => {

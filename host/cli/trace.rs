@@ -8,7 +8,7 @@ use crate::gpu::TexelFormat;
 use crate::gpu_abi::constants::PRIM_NONE;
 use crate::gpu_abi::GpuNode;
 use crate::output::npy::{HitWriter, RayReader};
-use crate::prepare::{build_bvh, GpuBvh, PrepareOptions};
+use crate::prepare::{build_bvh, build_two_level, GpuBvh, PrepareOptions};
 use crate::query::{RayOrder, RayQuery};
 use anyhow::{Context as _, Result};
 use clap::Args;
@@ -34,7 +34,9 @@ pub struct TraceArgs {
     pub builder: BuilderKind,
     /// BVH layout the shader walks [default: multi-order, the fastest measured on both camera
     /// and incoherent rays (BENCHMARKS.md); threaded where six orders of the tree might not fit
-    /// the device's texel buffers].
+    /// the device's texel buffers; for a scene with `Instances`, a two-level BVH of threaded
+    /// levels, one copy of each mesh (threaded names it too; another layout walks the copies
+    /// expanded)].
     #[arg(long, value_enum)]
     pub layout: Option<LayoutKind>,
     /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
@@ -88,9 +90,20 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let mut reader = RayReader::open(&args.rays)?;
     let scene = crate::scene::load_scene(&args.scene)?;
     let ctx = args.device.context()?;
-    let layout = args.layout.unwrap_or_else(|| default_layout(scene.triangles.len(), ctx.info.max_texel_buffer_elements));
+    // A scene with instances walks its two-level BVH, whose levels are threaded, unless another
+    // layout is asked for: that walks the expanded copies.
+    let two_level = !scene.instances.is_empty() && matches!(args.layout, None | Some(LayoutKind::Threaded));
+    let layout = match args.layout {
+        Some(l) => l,
+        None if two_level => LayoutKind::Threaded,
+        None => default_layout(scene.triangles.len(), ctx.info.max_texel_buffer_elements),
+    };
     let options = PrepareOptions { builder: args.builder, layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
-    let (flat, build_times) = build_bvh(&scene, &options)?;
+    let (flat, build_times) = if two_level { build_two_level(&scene, &options)? } else { build_bvh(&scene, &options)? };
+    let walk = match flat.nodes.instances().len() {
+        0 => layout.name().to_string(),
+        n => format!("two-level {} ({n} instances)", layout.name()),
+    };
     let bvh = GpuBvh::upload(&ctx, &flat)?;
     let mut query = RayQuery::new(&ctx, &bvh)?;
     query.order = args.order;
@@ -129,7 +142,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
         report.reordered,
         ctx.info.name,
         args.builder.name(),
-        layout.name(),
+        walk,
         report.rays as f64 / report.gpu_seconds.max(1e-9) / 1e6,
         build_times.bvh() * 1e3,
         per_ray(report.nodes_visited),

@@ -100,6 +100,11 @@ shared_constants! {
     /// largest triangles, kept out of the BVH and tested by every ray before its walk
     /// (`crate::accel::triangle_list`).
     BINDING_TRIANGLE_LIST = 43;
+    /// A two-level BVH's instances (`GpuInstance[]`, 4 texels each; `vkrt trace`'s
+    /// `trace_two_level` shader only).
+    BINDING_INSTANCES = 44;
+    /// `GpuInstance::flags`: the instance's transform mirrors.
+    INSTANCE_MIRRORED = 1;
     /// Triangles the triangle list holds at most: each is a test for every ray and an unrolled
     /// copy of the test at every trace call site (pipeline creation time), so only a room's
     /// worth (docs/experiments/triangle-list.md: 44 of Sponza's listed cost 13 %).

@@ -80,6 +80,23 @@ gpu_structs! {
         pub v2: [f32; 3],
         pub _pad1: u32,
     }
+
+    /// An instance of a two-level BVH (`crate::accel::two_level`): what a top-level leaf names.
+    /// The walk takes the ray into object space by `world_to_object` (direction not
+    /// renormalised, so that t stays the world ray's), walks the mesh's tree from `root`, and
+    /// adds `prim_base` to the mesh-local primitive id it hits.
+    pub struct GpuInstance {
+        /// The world-to-object transform's three rows: object = rows * (world, 1).
+        pub world_to_object: [[f32; 4]; 3],
+        /// The mesh's bottom-level root in the node array.
+        pub root: u32,
+        /// Primitive id of this copy's first triangle (`Scene::triangles`).
+        pub prim_base: u32,
+        /// `INSTANCE_MIRRORED` where the transform mirrors: the copy's second and third
+        /// vertices are swapped, so are the hit's barycentrics.
+        pub flags: u32,
+        pub _pad0: u32,
+    }
 }
 
 const _: () = assert!(std::mem::size_of::<GpuNode>() == 32);
@@ -87,3 +104,4 @@ const _: () = assert!(std::mem::size_of::<GpuParentNode>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuCompactNode>() == 16);
 const _: () = assert!(std::mem::size_of::<GpuWideNode>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 48);
+const _: () = assert!(std::mem::size_of::<GpuInstance>() == 64);

@@ -62,6 +62,9 @@ pub const SHADERS: &[Shader] = &[
     Shader { name: "path_mirrors_casters_lean", source: "path.comp", defines: &["LEAN", "MIRRORS", "CASTERS"], per_layout: true, role: Role::Product },
     // Batch ray queries see geometry only.
     Shader { name: "trace", source: "trace.comp", defines: &[], per_layout: true, role: Role::Product },
+    // The same over a two-level BVH of instanced meshes (accel::two_level), whose levels are
+    // threaded arrays.
+    Shader { name: "trace_two_level", source: "trace.comp", defines: &["TWO_LEVEL"], per_layout: false, role: Role::Product },
     // The textbook intersection tests, only to measure what the robust ones cost
     // (tools/bench: vkrt-robust-cost).
     Shader { name: "trace_plain", source: "trace.comp", defines: &["PLAIN_INTERSECT"], per_layout: false, role: Role::Bench },

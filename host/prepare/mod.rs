@@ -238,3 +238,16 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
     let t_flat = lap();
     Ok((flat, PrepareTimes { boxes: t_boxes, tree: t_tree - t_boxes, flatten: t_flat - t_tree, shading: 0.0 }))
 }
+
+/// The two-level BVH of a scene with instances (`accel::two_level`: one tree per mesh, a top
+/// level over the instances), built with `options.builder`, as a [`FlatBvh`] without a triangle
+/// list whose node array names its instances: what `vkrt trace` and `vkrt bvh` walk for such
+/// a scene. The renders still walk the expanded copies ([`build_bvh`]). The time is all in
+/// `tree`.
+pub fn build_two_level(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
+    let clock = std::time::Instant::now();
+    let (nodes, triangles) = accel::two_level::build(scene, options.builder, &options.build).context("building the two-level BVH")?;
+    let list_first = triangles.len();
+    let flat = FlatBvh { nodes: Box::new(nodes), triangles, list_first };
+    Ok((flat, PrepareTimes { tree: clock.elapsed().as_secs_f64(), ..PrepareTimes::default() }))
+}

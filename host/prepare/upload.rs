@@ -28,13 +28,21 @@ pub struct GpuBvh<'a> {
     /// The BVH's part of the push constants (node count, layout data); each dispatch fills in
     /// the rest.
     pub push: GpuPush,
+    /// A two-level BVH's instances (BINDING_INSTANCES, `accel::two_level`): `nodes` then holds
+    /// both levels, walked by `trace_two_level`. None for a one-level BVH.
+    pub instances: Option<TexelArray<'a>>,
 }
 
 impl<'a> GpuBvh<'a> {
     /// Uploads `flat`; fails, naming the array, if one holds more texels than the device lets a
     /// texel buffer address.
     pub fn upload(ctx: &'a Context, flat: &FlatBvh) -> Result<Self> {
-        Self::upload_arrays(ctx, flat.layout(), flat.nodes.bytes(), &flat.triangles, flat.push())
+        let mut bvh = Self::upload_arrays(ctx, flat.layout(), flat.nodes.bytes(), &flat.triangles, flat.push())?;
+        let instances = flat.nodes.instances();
+        if !instances.is_empty() {
+            bvh.instances = Some(TexelArray::with_data(ctx, "instances", instances, TexelFormat::Rgba32Uint)?);
+        }
+        Ok(bvh)
     }
 
     /// The same from the arrays themselves (`layout`'s node bytes, the triangles in leaf order
@@ -53,13 +61,18 @@ impl<'a> GpuBvh<'a> {
             triangle_count: triangles.len() as u32,
             layout,
             push,
+            instances: None,
         })
     }
 
     /// Binds the node and triangle texel buffers and the triangle list (BINDING_NODES,
-    /// BINDING_TRIANGLES, BINDING_TRIANGLE_LIST).
+    /// BINDING_TRIANGLES, BINDING_TRIANGLE_LIST), and a two-level BVH's instances
+    /// (BINDING_INSTANCES).
     pub fn bind(&self, pipeline: &ComputePipeline) -> Result<()> {
         pipeline.bind_texels(BINDING_NODES, &self.nodes.view)?;
+        if let Some(instances) = &self.instances {
+            pipeline.bind_texels(BINDING_INSTANCES, &instances.view)?;
+        }
         pipeline.bind_texels(BINDING_TRIANGLES, &self.triangles.view)?;
         pipeline.bind(BINDING_TRIANGLE_LIST, &self.list)
     }

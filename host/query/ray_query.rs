@@ -104,8 +104,11 @@ impl Placement<'_> {
 }
 
 impl<'a> RayQuery<'a> {
+    /// Queries walking `bvh` with the product's `trace.comp` for its layout (`trace_two_level`
+    /// for a two-level BVH).
     pub fn new(ctx: &'a Context, bvh: &GpuBvh) -> Result<Self> {
-        Self::with_shader(ctx, bvh, shaders::Tracing::Trace.spirv(bvh.layout))
+        let spv = if bvh.instances.is_some() { shaders::TRACE_TWO_LEVEL } else { shaders::Tracing::Trace.spirv(bvh.layout) };
+        Self::with_shader(ctx, bvh, spv)
     }
 
     /// The same with another build of `trace.comp` for the BVH's layout (the benchmarks' plain
@@ -114,13 +117,16 @@ impl<'a> RayQuery<'a> {
         if bvh.triangle_count == 0 {
             return Ok(Self { ctx, gpu: None, order: RayOrder::default(), reordered: 0.into(), device_seconds: None.into() });
         }
-        let bindings = [
+        let mut bindings = vec![
             (BINDING_NODES, BindingKind::Texels),
             (BINDING_TRIANGLES, BindingKind::Texels),
             (BINDING_TRIANGLE_LIST, BindingKind::Uniform),
             (BINDING_RAYS, BindingKind::Storage),
             (BINDING_HITS, BindingKind::Storage),
         ];
+        if bvh.instances.is_some() {
+            bindings.push((BINDING_INSTANCES, BindingKind::Texels));
+        }
         let pipeline = ComputePipeline::specialized(ctx, "trace", spv, &bindings, size_of::<GpuPush>() as u32, &bvh.spec_constants())?;
         bvh.bind(&pipeline)?;
         let slots = (0..IN_FLIGHT).map(|_| Slot::new(ctx)).collect::<Result<Vec<_>>>()?;

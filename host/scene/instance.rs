@@ -1,12 +1,57 @@
 //! Copies of a mesh placed by affine transforms ("instances"): the lab YAML's `Instances`
 //! (scene/lab_yaml.rs). Each copy is expanded into the scene's triangles at load, as glTF's
 //! node placements are, so the triangles a scene would hold are counted against
-//! [`super::assemble::MAX_PLACED_TRIANGLES`] before anything is copied. (Keeping one copy of
-//! each mesh under a two-level BVH is issue 44's next step; the file format does not change.)
+//! [`super::assemble::MAX_PLACED_TRIANGLES`] before anything is copied. [`place_copies`] also
+//! records how the copies were made ([`InstanceGroup`]), so that `vkrt trace` and `vkrt bvh`
+//! can build a two-level BVH over one copy of the mesh (`accel::two_level`); the renders still
+//! walk the expanded copies.
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
-use super::Triangle;
+use super::assemble::push_triangle;
+use super::{Scene, Triangle};
+
+/// Copies of one mesh as a loader expanded them into [`Scene::triangles`]: copy `k`'s
+/// triangles are primitives `first + k * mesh.len()` onwards, in the mesh's order, each
+/// [`Placement::place`]d. What a two-level BVH needs to keep one copy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InstanceGroup {
+    /// The mesh's vertex positions in object space, in the copies' triangle order (a
+    /// mirrored copy has its second and third vertices swapped, [`Placement::place`]).
+    pub mesh: Vec<[Vec3; 3]>,
+    /// Primitive id of the first copy's first triangle.
+    pub first: u32,
+    pub placements: Vec<Placement>,
+}
+
+impl InstanceGroup {
+    /// Triangles the copies hold in the scene.
+    pub fn placed_triangles(&self) -> usize {
+        self.mesh.len() * self.placements.len()
+    }
+}
+
+/// Adds one copy of `mesh` per placement to the scene's triangles and, where every copy kept
+/// the same triangles (a transform can make a triangle degenerate in one copy and not in
+/// another; the copies are then only expanded), records them as an [`InstanceGroup`].
+pub fn place_copies(scene: &mut Scene, mesh: &[Triangle], placements: Vec<Placement>) {
+    let first = scene.triangles.len();
+    let mut kept: Option<Vec<bool>> = None;
+    let mut alike = true;
+    for p in &placements {
+        let copy: Vec<bool> = mesh.iter().map(|t| push_triangle(scene, p.place(t))).collect();
+        match &kept {
+            None => kept = Some(copy),
+            Some(first_copy) => alike &= *first_copy == copy,
+        }
+    }
+    let Some(kept) = kept.filter(|_| alike) else { return };
+    let mesh: Vec<[Vec3; 3]> = mesh.iter().zip(&kept).filter(|(_, &keep)| keep).map(|(t, _)| t.p).collect();
+    let Ok(first) = u32::try_from(first) else { return };
+    if !mesh.is_empty() {
+        scene.instances.push(InstanceGroup { mesh, first, placements });
+    }
+}
 
 /// An object-to-world transform and what placing a triangle by it needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,6 +101,17 @@ impl Placement {
             return Err(format!("the transform is singular (determinant {det}): it would flatten the mesh"));
         }
         Ok(Self { world, normal_matrix, mirrored: det < 0.0 })
+    }
+
+    /// The object-to-world transform (affine: its last row is 0 0 0 1).
+    pub fn world(&self) -> Mat4 {
+        self.world
+    }
+
+    /// Whether the transform mirrors (negative determinant): the placed triangles' second and
+    /// third vertices are swapped.
+    pub fn mirrored(&self) -> bool {
+        self.mirrored
     }
 
     /// `t` in the world: positions by the transform, shading normals by its inverse transpose

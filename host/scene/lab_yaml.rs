@@ -33,7 +33,7 @@ use yaml_rust2::{Yaml, YamlLoader};
 
 use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT, MAX_PLACED_TRIANGLES};
 use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
-use super::instance::Placement;
+use super::instance::{place_copies, Placement};
 use super::obj::{load_obj_meshes, ObjMesh};
 use super::{Camera, Light, Material, Scene, Triangle};
 use crate::error::InputError;
@@ -457,9 +457,7 @@ impl Lab<'_> {
                 );
                 return Err(self.err(&transforms_key, msg));
             }
-            for p in &placements {
-                push_triangles(&mut self.scene, mesh.iter().map(|t| p.place(t)));
-            }
+            place_copies(&mut self.scene, &mesh, placements);
         }
         Ok(())
     }

@@ -86,6 +86,9 @@ pub struct Scene {
     pub textures: Vec<Texture>,
     /// What rays that leave the scene see.
     pub sky: Sky,
+    /// How copies of a mesh in `triangles` were placed (lab YAML `Instances`), for a two-level
+    /// BVH over one copy; empty for a scene without instances.
+    pub instances: Vec<instance::InstanceGroup>,
     /// Counts of what the loader dropped or changed, for the log.
     pub stats: LoadStats,
 }

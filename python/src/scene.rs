@@ -384,7 +384,7 @@ fn columns<'py>(py: Python<'py>, rows: &[vkrt::cli::bvh::Row]) -> PyResult<Bound
     column!("scene", |r| r.scene.clone());
     column!("triangles", |r| r.triangles);
     column!("builder", |r| r.builder.name().to_string());
-    column!("layout", |r| r.layout.name().to_string());
+    column!("layout", |r| r.layout_name());
     column!("build_ms", |r| r.build_ms);
     column!("nodes", |r| r.nodes);
     column!("bytes", |r| r.bytes);

@@ -48,6 +48,14 @@ struct GpuTriangle {
     uint _pad1;
 };
 
+struct GpuInstance {
+    vec4 world_to_object[3];
+    uint root;
+    uint prim_base;
+    uint flags;
+    uint _pad0;
+};
+
 struct GpuShading {
     vec3 n0;
     uint material;

@@ -4,8 +4,13 @@
 #define VKRT_TRAVERSE_THREADED_GLSL
 #include "threaded_walk.glsl"
 
+#ifdef TWO_LEVEL
+// Instanced meshes under a top level (vkrt trace on a scene with instances).
+#include "traverse_two_level.glsl"
+#else
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     return traverse_threaded_from(0u, ray_pre(origin, dir, tmin, tmax), tmax, any_hit);
 }
+#endif
 
 #endif

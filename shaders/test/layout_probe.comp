@@ -31,6 +31,7 @@ layout(std430, set = 0, binding = BINDING_LIGHT_PICKS) readonly buffer LightPick
 layout(std430, set = 0, binding = BINDING_MIRRORS) readonly buffer Mirrors { GpuMirror mirrors[]; };
 layout(std430, set = 0, binding = BINDING_MIRROR_PLANES) readonly buffer MirrorPlanes { GpuMirrorPlane mirror_planes[]; };
 layout(std430, set = 0, binding = BINDING_CASTERS) readonly buffer Casters { GpuCaster casters[]; };
+layout(std430, set = 0, binding = BINDING_INSTANCES) readonly buffer Instances { GpuInstance instances[]; };
 
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer Accum { vec4 accum[]; };
 layout(std430, set = 0, binding = BINDING_RAYS) readonly buffer Rays { GpuRay rays[]; };
@@ -43,7 +44,7 @@ void main() {
             + float(push.tile_x) + light_picks[0].pmf + float(params.max_depth)
             + float(textures[0].width) + float(texels[0]) + uvs[0].uv0.x + float(block_samples[0].x)
             + tangents[0].t0.x + mirrors[0].v0.x + float(mirror_planes[0].count) + casters[0].radius
-            + list_triangles[0].v0.x;
+            + list_triangles[0].v0.x + instances[0].world_to_object[2].w + float(instances[0].flags);
     accum[0] = vec4(s);
     hits[0].t = s;
     uvec2 w = uvec2(s);

@@ -1,0 +1,269 @@
+//! A two-level BVH over instanced meshes (issue 44): one bottom-level tree per mesh, in object
+//! space, and a top-level tree over the instances' world boxes, whose leaves each name one
+//! instance ([`GpuInstance`]: world-to-object rows, the mesh tree's root, the copy's first
+//! primitive id). Both levels are threaded arrays (Smits 1998), in one node array: the top
+//! level from index 0, then each mesh's tree, whose escape links end in NODE_NONE.
+//!
+//! The walk stays stackless with O(1) more state than the one-level walk: at a top-level leaf
+//! the ray goes into object space (its direction not renormalised, so t, tmin and tmax keep
+//! their world meaning and one tmax serves both levels), walks the mesh's tree from its root,
+//! and on the tree's NODE_NONE continues in the top level at the leaf's escape link with the
+//! world ray. What it carries besides: that escape link, whether it is in object space, the
+//! instance's primitive base and mirror flag (Embree's and pbrt's instancing, without their
+//! stack). Shader: `shaders/include/traverse_two_level.glsl`, the `trace_two_level` variant.
+//!
+//! The scene's triangles that are no instance's (`scene::instance::InstanceGroup`) form one
+//! more mesh under an identity instance: its object ray is the world ray to the bit (each
+//! coordinate is 1 x plus zeros), so those triangles are hit at the same t as in the one-level
+//! walk. Primitive ids are the expanded scene's, so hits compare with it directly.
+
+use glam::{Mat4, Vec3};
+
+use super::intersect::{intersect_box, RayPre};
+use super::leaf::{leaf_count, miss, test_leaf};
+use super::threaded::threaded;
+use super::{LayoutKind, NodeArray, MAX_FLAT_TRIANGLES};
+use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
+use crate::geom::Aabb;
+use crate::gpu_abi::constants::{INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
+use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuRay, GpuTriangle};
+use crate::scene::Scene;
+
+/// The two-level node array: top-level nodes, then every mesh's tree; and the instances the
+/// top-level leaves name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TwoLevel {
+    pub nodes: Vec<GpuNode>,
+    /// Nodes of the top-level tree (the first ones of `nodes`).
+    pub top_nodes: usize,
+    pub instances: Vec<GpuInstance>,
+    /// Meshes with a tree of their own (the scene's instanced meshes, and the rest of its
+    /// triangles if any).
+    pub meshes: usize,
+    /// The top-level tree's SAH cost (`bvh::stats`), in its own units: the bottom levels'
+    /// boxes are in object space, so no cost adds the two.
+    pub top_sah: f32,
+}
+
+impl NodeArray for TwoLevel {
+    fn kind(&self) -> LayoutKind {
+        LayoutKind::Threaded
+    }
+    fn bytes(&self) -> &[u8] {
+        bytemuck::cast_slice(&self.nodes)
+    }
+    fn count(&self) -> usize {
+        self.nodes.len()
+    }
+    fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
+        trace(&self.nodes, tris, &self.instances, ray, any_hit)
+    }
+    fn instances(&self) -> &[GpuInstance] {
+        &self.instances
+    }
+}
+
+/// The most instances a top-level leaf word can name (the instance index in the bits above the
+/// leaf count).
+pub const MAX_INSTANCES: usize = 1 << (32 - LEAF_COUNT_BITS);
+
+/// One mesh's triangles in object space, with their primitive ids (mesh-local for an
+/// instanced mesh, the scene's for the rest).
+struct Mesh {
+    positions: Vec<[Vec3; 3]>,
+    prims: Vec<u32>,
+}
+
+/// Builds the two-level BVH of a scene with instances: `builder` builds every mesh's tree and
+/// the top-level tree (one instance per leaf, so that a leaf names its instance). Returns the
+/// node array and the bottom levels' triangles in leaf order, object space.
+pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyhow::Result<(TwoLevel, Vec<GpuTriangle>)> {
+    let mut placed = vec![false; scene.triangles.len()];
+    let mut meshes: Vec<Mesh> = Vec::with_capacity(scene.instances.len() + 1);
+    for g in &scene.instances {
+        let first = g.first as usize;
+        let end = first + g.placed_triangles();
+        anyhow::ensure!(end <= placed.len(), "an instance group names triangles {first}..{end} of {}", placed.len());
+        placed[first..end].iter_mut().for_each(|p| *p = true);
+        meshes.push(Mesh { positions: g.mesh.clone(), prims: (0..g.mesh.len() as u32).collect() });
+    }
+    let rest: Vec<u32> = (0..scene.triangles.len() as u32).filter(|&i| !placed[i as usize]).collect();
+    let has_rest = !rest.is_empty();
+    if has_rest {
+        meshes.push(Mesh { positions: rest.iter().map(|&i| scene.triangles[i as usize].p).collect(), prims: rest });
+    }
+    let triangle_total: usize = meshes.iter().map(|m| m.positions.len()).sum();
+    anyhow::ensure!(triangle_total <= MAX_FLAT_TRIANGLES, "the meshes have {triangle_total} triangles; the flat layouts address at most {MAX_FLAT_TRIANGLES}");
+
+    // The bottom levels, each built over its own triangles' boxes.
+    use rayon::prelude::*;
+    let trees: Vec<Bvh> = meshes
+        .par_iter()
+        .map(|m| {
+            let boxes: Vec<Aabb> = m.positions.iter().map(|p| Aabb::from_points(p)).collect();
+            let centroids: Vec<Vec3> = m.positions.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
+            bvh::build(builder, &boxes, &centroids, config)
+        })
+        .collect();
+
+    // The instances: every placement of every group, then the rest under the identity; for
+    // each, its mesh, object-to-world transform, first primitive id and mirror flag.
+    let mut placements: Vec<(usize, Mat4, u32, bool)> = Vec::new();
+    for (mesh, g) in scene.instances.iter().enumerate() {
+        for (k, p) in g.placements.iter().enumerate() {
+            placements.push((mesh, p.world(), (g.first as usize + k * g.mesh.len()) as u32, p.mirrored()));
+        }
+    }
+    if has_rest {
+        placements.push((meshes.len() - 1, Mat4::IDENTITY, 0, false));
+    }
+    anyhow::ensure!(placements.len() <= MAX_INSTANCES, "{} instances; a top-level leaf names at most {MAX_INSTANCES}", placements.len());
+    let world_boxes: Vec<Aabb> = placements.iter().map(|(mesh, world, ..)| world_box(world, &trees[*mesh].nodes[0].bounds)).collect();
+
+    // The top level: one instance per leaf.
+    let centroids: Vec<Vec3> = world_boxes.iter().map(|b| b.center()).collect();
+    let top = bvh::build(builder, &world_boxes, &centroids, &BuildConfig { max_leaf_size: 1, ..*config });
+    let mut nodes = threaded(&top, |_, l, r| (l, r), 0);
+    for n in nodes.iter_mut().filter(|n| leaf_count(n.leaf) != 0) {
+        let first = (n.leaf >> LEAF_COUNT_BITS) as usize;
+        n.leaf = (top.prim_indices[first] << LEAF_COUNT_BITS) | 1;
+    }
+    let top_nodes = nodes.len();
+    let top_sah = bvh::stats::stats(&top).sah_cost;
+
+    // Every mesh's tree after it, its leaves' triangles after the meshes before it.
+    let mut roots = Vec::with_capacity(meshes.len());
+    let mut triangles = Vec::with_capacity(triangle_total);
+    for (m, tree) in meshes.iter().zip(&trees) {
+        let base = u32::try_from(nodes.len()).map_err(|_| anyhow::anyhow!("the two-level BVH has more than 2^32 nodes"))?;
+        roots.push(base);
+        let tri_base = triangles.len() as u32;
+        nodes.extend(threaded(tree, |_, l, r| (l, r), base).into_iter().map(|mut n| {
+            if leaf_count(n.leaf) != 0 {
+                n.leaf += tri_base << LEAF_COUNT_BITS;
+            }
+            n
+        }));
+        triangles.extend(tree.prim_indices.iter().map(|&i| {
+            let p = m.positions[i as usize];
+            GpuTriangle { v0: p[0].to_array(), prim: m.prims[i as usize], v1: p[1].to_array(), _pad0: 0, v2: p[2].to_array(), _pad1: 0 }
+        }));
+    }
+    let instances = placements
+        .iter()
+        .map(|&(mesh, world, prim_base, mirrored)| {
+            let inv = world.inverse();
+            let rows = [inv.row(0).to_array(), inv.row(1).to_array(), inv.row(2).to_array()];
+            GpuInstance { world_to_object: rows, root: roots[mesh], prim_base, flags: if mirrored { INSTANCE_MIRRORED } else { 0 }, _pad0: 0 }
+        })
+        .collect();
+    Ok((TwoLevel { nodes, top_nodes, instances, meshes: meshes.len(), top_sah }, triangles))
+}
+
+/// An object box's world box: its eight corners transformed, padded by a few ulps of its
+/// largest coordinate, so that a ray the mesh's tree hits in object space (after the rounding
+/// of the ray's transform) is not culled by the top level.
+fn world_box(world: &Mat4, b: &Aabb) -> Aabb {
+    let mut out = Aabb::EMPTY;
+    for k in 0..8 {
+        let corner =
+            Vec3::new(if k & 1 == 0 { b.min.x } else { b.max.x }, if k & 2 == 0 { b.min.y } else { b.max.y }, if k & 4 == 0 { b.min.z } else { b.max.z });
+        out = out.union(&Aabb::from_points(&[world.transform_point3(corner)]));
+    }
+    let pad = out.min.abs().max(out.max.abs()).max_element() * 8.0 * f32::EPSILON;
+    Aabb { min: out.min - Vec3::splat(pad), max: out.max + Vec3::splat(pad) }
+}
+
+/// `object_point` / `object_dir` in traverse_two_level.glsl: one row of the world-to-object
+/// transform, summed left to right with no fused multiply-add, as the shader's `precise`.
+fn row_dot(row: &[f32; 4], v: Vec3, w: f32) -> f32 {
+    ((row[0] * v.x + row[1] * v.y) + row[2] * v.z) + row[3] * w
+}
+
+/// The ray in an instance's object space: same tmin and tmax, direction not renormalised.
+pub fn object_ray(instance: &GpuInstance, ray: &GpuRay) -> GpuRay {
+    let (o, d) = (Vec3::from(ray.origin), Vec3::from(ray.direction));
+    let m = &instance.world_to_object;
+    GpuRay {
+        origin: [row_dot(&m[0], o, 1.0), row_dot(&m[1], o, 1.0), row_dot(&m[2], o, 1.0)],
+        tmin: ray.tmin,
+        direction: [row_dot(&m[0], d, 0.0), row_dot(&m[1], d, 0.0), row_dot(&m[2], d, 0.0)],
+        tmax: ray.tmax,
+    }
+}
+
+/// `traverse` in traverse_two_level.glsl: the closest hit (or with `any_hit` the first found)
+/// through both levels.
+pub fn trace(nodes: &[GpuNode], tris: &[GpuTriangle], instances: &[GpuInstance], ray: &GpuRay, any_hit: bool) -> GpuHit {
+    let world = RayPre::new(ray);
+    let mut r = world;
+    let mut hit = miss();
+    let mut tmax = ray.tmax;
+    let mut index = if nodes.is_empty() { NODE_NONE } else { 0 };
+    // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
+    let mut in_object = false;
+    let mut resume = NODE_NONE;
+    let (mut prim_base, mut mirrored) = (0u32, false);
+    loop {
+        let Some(node) = nodes.get(index as usize) else {
+            if !in_object {
+                break;
+            }
+            (index, in_object, r) = (resume, false, world);
+            continue;
+        };
+        hit.nodes_visited += 1;
+        if intersect_box(&r, Vec3::from(node.bmin), Vec3::from(node.bmax), tmax).is_none() {
+            index = node.escape;
+            continue;
+        }
+        if leaf_count(node.leaf) == 0 {
+            index += 1;
+            continue;
+        }
+        if !in_object {
+            let Some(instance) = instances.get((node.leaf >> LEAF_COUNT_BITS) as usize) else { break };
+            r = RayPre::new(&object_ray(instance, ray));
+            (resume, index, in_object) = (node.escape, instance.root, true);
+            (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+            continue;
+        }
+        if test_leaf(node.leaf, tris, &r, &mut tmax, &mut hit, any_hit) {
+            hit.prim += prim_base;
+            if mirrored {
+                (hit.u, hit.v) = (hit.v, hit.u);
+            }
+            if any_hit {
+                return hit;
+            }
+        }
+        index = node.escape;
+    }
+    hit
+}
+
+/// What `vkrt bvh` reports of each level.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LevelCounts {
+    pub instances: usize,
+    pub meshes: usize,
+    pub top_nodes: usize,
+    pub top_sah: f32,
+    pub bottom_nodes: usize,
+    /// Triangles the meshes hold (each once), against the expanded scene's.
+    pub bottom_triangles: usize,
+}
+
+impl TwoLevel {
+    /// Its counts, with `triangles` the bottom levels' triangle count.
+    pub fn counts(&self, triangles: usize) -> LevelCounts {
+        LevelCounts {
+            instances: self.instances.len(),
+            meshes: self.meshes,
+            top_nodes: self.top_nodes,
+            top_sah: self.top_sah,
+            bottom_nodes: self.nodes.len() - self.top_nodes,
+            bottom_triangles: triangles,
+        }
+    }
+}

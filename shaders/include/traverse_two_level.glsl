@@ -1,0 +1,102 @@
+// The two-level walk over instanced meshes (`trace_two_level`, the TWO_LEVEL build of
+// trace.comp): a threaded top level over the instances' world boxes, whose leaves each name an
+// instance, and a threaded tree per mesh in object space, all in one node array.
+// CPU twin: accel::two_level::trace (host/accel/two_level.rs), which says why it is built so.
+//
+// Stackless with O(1) more state than the threaded walk: at a top-level leaf the ray goes into
+// the instance's object space (direction not renormalised: t, tmin and tmax keep their world
+// meaning, so one tmax serves both levels), walks the mesh's tree from its root, and where that
+// tree's escape links end (NODE_NONE) goes on in the top level at the leaf's escape link with
+// the world ray again.
+#ifndef VKRT_TRAVERSE_TWO_LEVEL_GLSL
+#define VKRT_TRAVERSE_TWO_LEVEL_GLSL
+#include "threaded_walk.glsl"
+
+// GpuInstance, 64 B: three world-to-object rows, then root, prim_base, flags, pad.
+#define INSTANCE_TEXELS 4u
+layout(set = 0, binding = BINDING_INSTANCES) uniform utextureBuffer instance_texels;
+
+GpuInstance load_instance(uint i) {
+    GpuInstance inst;
+    for (uint k = 0u; k < 3u; k++) {
+        inst.world_to_object[k] = uintBitsToFloat(texelFetch(instance_texels, int(INSTANCE_TEXELS * i + k)));
+    }
+    uvec4 w = texelFetch(instance_texels, int(INSTANCE_TEXELS * i + 3u));
+    inst.root = w.x;
+    inst.prim_base = w.y;
+    inst.flags = w.z;
+    inst._pad0 = 0u;
+    return inst;
+}
+
+// One row of the world-to-object transform applied to (v, w), summed left to right and never
+// fused into an fma (`precise`), as the CPU twin's row_dot.
+float row_dot(vec4 row, vec3 v, float w) {
+    precise float a = row.x * v.x;
+    precise float b = row.y * v.y;
+    precise float c = row.z * v.z;
+    precise float d = row.w * w;
+    precise float s = ((a + b) + c) + d;
+    return s;
+}
+
+Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
+    float tmax0 = tmax;
+    RayPre world = ray_pre(origin, dir, tmin, tmax);
+    RayPre r = world;
+    Hit hit = hit_none();
+    uint index = node_count() > 0u ? 0u : NODE_NONE;
+    // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
+    bool in_object = false;
+    uint resume = NODE_NONE;
+    uint prim_base = 0u;
+    bool mirrored = false;
+    while (true) {
+        if (index == NODE_NONE) {
+            if (!in_object) break;
+            index = resume;
+            in_object = false;
+            r = world;
+            continue;
+        }
+        GpuNode node = load_node(index);
+        hit.nodes_visited++;
+        float t_enter;
+        if (!intersect_box(r, node.bmin, node.bmax, tmax, t_enter)) {
+            index = node.escape;
+            continue;
+        }
+        if ((node.leaf & count_mask) == 0u) {
+            index++;
+            continue;
+        }
+        if (!in_object) {
+            GpuInstance inst = load_instance(node.leaf >> LEAF_COUNT_BITS);
+            vec3 o = vec3(row_dot(inst.world_to_object[0], origin, 1.0), row_dot(inst.world_to_object[1], origin, 1.0),
+                          row_dot(inst.world_to_object[2], origin, 1.0));
+            vec3 d = vec3(row_dot(inst.world_to_object[0], dir, 0.0), row_dot(inst.world_to_object[1], dir, 0.0),
+                          row_dot(inst.world_to_object[2], dir, 0.0));
+            r = ray_pre(o, d, tmin, tmax0);
+            resume = node.escape;
+            index = inst.root;
+            prim_base = inst.prim_base;
+            mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
+            in_object = true;
+            continue;
+        }
+        if (test_leaf(node.leaf, r, tmax, hit, any_hit)) {
+            hit.prim += prim_base;
+            if (mirrored) {
+                float u = hit.u;
+                hit.u = hit.v;
+                hit.v = u;
+            }
+            if (any_hit) return hit;
+        }
+        index = node.escape;
+    }
+    return hit;
+}
+
+#endif

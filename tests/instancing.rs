@@ -1,0 +1,288 @@
+//! The two-level BVH over instanced meshes (`accel::two_level`, issue 44): its walk on the GPU
+//! (`trace_two_level`) against its CPU twin, hit for hit and counter for counter, and both
+//! against the expanded scene the loaders make of the same copies.
+
+mod common;
+
+use common::closed_meshes::{icosphere, subdivided_cube};
+use glam::Vec3;
+use vkrt::accel::leaf::brute_force;
+use vkrt::gpu_abi::constants::PRIM_NONE;
+use vkrt::gpu_abi::{GpuHit, GpuRay};
+use vkrt::prepare::{build_two_level, GpuBvh, PrepareOptions};
+use vkrt::query::ray_query::trace_rays;
+use vkrt::rng::Pcg32;
+use vkrt::scene::instance::{place_copies, Placement};
+use vkrt::scene::{Scene, Triangle};
+
+/// A ground of two triangles (no instance's: the identity instance) and two groups of copies.
+fn scene_with(groups: &[(Vec<Triangle>, Vec<Placement>)]) -> Scene {
+    let mut scene = Scene::default();
+    let g = [Vec3::new(-40.0, -2.0, -40.0), Vec3::new(40.0, -2.0, -40.0), Vec3::new(40.0, -2.0, 40.0), Vec3::new(-40.0, -2.0, 40.0)];
+    scene.triangles.push(Triangle { p: [g[0], g[2], g[1]], n: None, uv: None, material: 0 });
+    scene.triangles.push(Triangle { p: [g[0], g[3], g[2]], n: None, uv: None, material: 0 });
+    for (mesh, placements) in groups {
+        place_copies(&mut scene, mesh, placements.clone());
+    }
+    scene
+}
+
+fn translation(x: f32, y: f32, z: f32) -> Placement {
+    Placement::from_trs(Vec3::new(x, y, z), Vec3::ZERO, Vec3::ONE).unwrap()
+}
+
+/// Copies turned, scaled (unevenly too) and mirrored, of a sphere and a cube.
+fn turned_scene() -> Scene {
+    let sphere = icosphere(2).to_triangles(1.0, Vec3::ZERO, 0);
+    let cube = subdivided_cube(3).to_triangles(1.0, Vec3::ZERO, 0);
+    let mut rng = Pcg32::new(7);
+    let mut spheres = Vec::new();
+    let mut cubes = Vec::new();
+    for i in 0..6 {
+        for j in 0..6 {
+            let at = Vec3::new(i as f32 * 5.0 - 12.5, 0.0, j as f32 * 5.0 - 12.5);
+            let turn = Vec3::new(rng.range(0.0, 360.0), rng.range(0.0, 360.0), rng.range(0.0, 360.0));
+            let mirror = if (i + j) % 3 == 0 { -1.0 } else { 1.0 };
+            let scale = Vec3::new(mirror * rng.range(0.5, 1.5), rng.range(0.5, 1.5), rng.range(0.5, 1.5));
+            let p = Placement::from_trs(at, turn, scale).unwrap();
+            if (i + j) % 2 == 0 {
+                spheres.push(p)
+            } else {
+                cubes.push(p)
+            }
+        }
+    }
+    scene_with(&[(sphere, spheres), (cube, cubes)])
+}
+
+/// Cubes on a grid of 1/2 steps, moved by whole numbers: every coordinate and every difference
+/// the walk takes is exact in both forms.
+fn translated_scene() -> Scene {
+    let cube = subdivided_cube(4).to_triangles(1.0, Vec3::ZERO, 0);
+    let placements = (0..25).map(|k| translation((k % 5) as f32 * 3.0 - 6.0, (k % 2) as f32, (k / 5) as f32 * 3.0 - 6.0)).collect();
+    scene_with(&[(cube, placements)])
+}
+
+/// Rays from around the scene to random points in it, and from inside it in random directions.
+fn rays(n: usize, seed: u64, grid: bool) -> Vec<GpuRay> {
+    let mut rng = Pcg32::new(seed);
+    // On the grid scene origins are multiples of 1/8, so that their moves into object space are exact.
+    let snap = |v: Vec3| if grid { (v * 8.0).round() / 8.0 } else { v };
+    (0..n)
+        .map(|i| {
+            let (origin, dir) = if i % 2 == 0 {
+                let o = snap(rng.unit_vector() * 40.0);
+                let target = Vec3::new(rng.range(-15.0, 15.0), rng.range(-2.0, 2.0), rng.range(-15.0, 15.0));
+                (o, target - o)
+            } else {
+                (snap(Vec3::new(rng.range(-15.0, 15.0), rng.range(-1.5, 3.0), rng.range(-15.0, 15.0))), rng.unit_vector())
+            };
+            GpuRay { origin: origin.to_array(), tmin: 0.0, direction: dir.to_array(), tmax: f32::INFINITY }
+        })
+        .collect()
+}
+
+fn two_level(scene: &Scene) -> vkrt::accel::FlatBvh {
+    build_two_level(scene, &PrepareOptions::default()).unwrap().0
+}
+
+#[test]
+fn loaders_record_how_copies_were_placed() {
+    let scene = turned_scene();
+    assert_eq!(scene.instances.len(), 2);
+    assert_eq!(scene.instances[0].first, 2);
+    let placed: usize = scene.instances.iter().map(|g| g.placed_triangles()).sum();
+    assert_eq!(placed + 2, scene.triangles.len());
+    // Copy k of a group is its placement of the mesh, at first + k * len.
+    let g = &scene.instances[1];
+    let k = 3;
+    let copy = &scene.triangles[g.first as usize + k * g.mesh.len()..][..g.mesh.len()];
+    for (t, object) in copy.iter().zip(&g.mesh) {
+        let mut p = object.map(|v| g.placements[k].world().transform_point3(v));
+        if g.placements[k].mirrored() {
+            p.swap(1, 2);
+        }
+        assert_eq!(t.p, p);
+    }
+}
+
+#[test]
+fn copies_that_lose_different_triangles_are_only_expanded() {
+    // A sliver that a flattening scale makes degenerate in one copy and not in the other.
+    let mesh = vec![
+        Triangle { p: [Vec3::ZERO, Vec3::X, Vec3::Y], n: None, uv: None, material: 0 },
+        Triangle { p: [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1e-15, 0.0)], n: None, uv: None, material: 0 },
+    ];
+    let placements = vec![translation(0.0, 0.0, 0.0), Placement::from_trs(Vec3::ZERO, Vec3::ZERO, Vec3::new(1.0, 1e-20, 1.0)).unwrap()];
+    let mut scene = Scene::default();
+    place_copies(&mut scene, &mesh, placements);
+    assert!(scene.instances.is_empty(), "{:?}", scene.instances);
+    assert_eq!(scene.triangles.len() + scene.stats.dropped_degenerate, 4);
+}
+
+#[test]
+fn exact_translations_hit_as_the_expanded_scene_bit_for_bit() {
+    let scene = translated_scene();
+    let flat = two_level(&scene);
+    assert_eq!(flat.nodes.instances().len(), 26, "25 copies and the ground");
+    // One copy of the cube in memory, not 25.
+    assert_eq!(flat.triangles.len(), 192 + 2);
+    for ray in rays(4000, 1, true) {
+        let expected = brute_force(&scene.triangles, &ray);
+        let got = flat.trace(&ray, false);
+        assert_eq!(
+            (got.t.to_bits(), got.prim, got.u.to_bits(), got.v.to_bits()),
+            (expected.t.to_bits(), expected.prim, expected.u.to_bits(), expected.v.to_bits()),
+            "{ray:?}"
+        );
+    }
+}
+
+#[test]
+fn turned_scaled_and_mirrored_copies_hit_as_the_expanded_scene() {
+    let scene = turned_scene();
+    let flat = two_level(&scene);
+    let (mut hits, mut same) = (0, 0);
+    for ray in rays(6000, 2, false) {
+        let expected = brute_force(&scene.triangles, &ray);
+        let got = flat.trace(&ray, false);
+        // A ray through an edge may take either triangle's side after the transform's rounding;
+        // it never misses where the expanded scene is hit.
+        assert_eq!(got.prim == PRIM_NONE, expected.prim == PRIM_NONE, "{ray:?}: {got:?} against {expected:?}");
+        if expected.prim == PRIM_NONE {
+            continue;
+        }
+        hits += 1;
+        // The ray's move into object space rounds its origin by an ulp or so of the scene's
+        // size (40), not of t.
+        assert!((got.t - expected.t).abs() <= 1e-5 * (expected.t + 40.0), "{ray:?}: t {} against {}", got.t, expected.t);
+        if got.prim == expected.prim {
+            same += 1;
+            // Barycentrics of the placed triangle's own vertices: a mirror's swap is undone.
+            assert!((got.u - expected.u).abs() < 1e-3 && (got.v - expected.v).abs() < 1e-3, "{ray:?}: {got:?} against {expected:?}");
+        }
+    }
+    assert!(hits > 2000, "{hits} hits");
+    assert!(same as f64 >= 0.999 * hits as f64, "{same} of {hits} on the same triangle");
+    // Any-hit queries agree on whether anything is in the way.
+    for ray in rays(2000, 3, false) {
+        assert_eq!(flat.trace(&ray, true).prim == PRIM_NONE, brute_force(&scene.triangles, &ray).prim == PRIM_NONE, "{ray:?}");
+    }
+}
+
+#[test]
+fn the_gpu_walk_matches_its_cpu_twin_bit_for_bit() {
+    let ctx = common::gpu_context();
+    for (name, scene, grid) in [("translated", translated_scene(), true), ("turned", turned_scene(), false)] {
+        let flat = two_level(&scene);
+        let gpu = GpuBvh::upload(&ctx, &flat).unwrap();
+        assert!(gpu.instances.is_some());
+        let rays = rays(4096, 4, grid);
+        for any_hit in [false, true] {
+            let hits = trace_rays(&ctx, &gpu, &rays, any_hit).unwrap();
+            for (ray, got) in rays.iter().zip(&hits) {
+                let expected: GpuHit = flat.trace(ray, any_hit);
+                assert_eq!(*got, expected, "{name}, any_hit {any_hit}: {ray:?}");
+            }
+        }
+    }
+    common::assert_no_validation_messages(&ctx);
+}
+
+/// A lab YAML scene: a ground `Model` and a cube and a sphere placed by `Instances` (turned,
+/// scaled, one mirrored).
+fn write_yaml_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let obj = |mesh: &common::closed_meshes::IndexedMesh| {
+        let mut s = String::new();
+        for p in &mesh.positions {
+            s += &format!("v {} {} {}\n", p.x, p.y, p.z);
+        }
+        for t in &mesh.triangles {
+            s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        s
+    };
+    std::fs::write(dir.join("cube.obj"), obj(&subdivided_cube(3))).unwrap();
+    std::fs::write(dir.join("ball.obj"), obj(&icosphere(2))).unwrap();
+    std::fs::write(dir.join("ground.obj"), "v -20 -1 -20\nv 20 -1 -20\nv 20 -1 20\nv -20 -1 20\nf 1 3 2\nf 1 4 3\n").unwrap();
+    let mut yaml = String::from("Materials:\n  - Name: m\nModels:\n  - Mesh: ground.obj\n    Material: m\nInstances:\n");
+    for (mesh, x) in [("cube.obj", -6.0), ("ball.obj", 6.0)] {
+        yaml += &format!("  - Mesh: {mesh}\n    Material: m\n    Transforms:\n");
+        for k in 0..4 {
+            let z = k as f32 * 4.0 - 6.0;
+            yaml += &format!(
+                "      - Translation: [{x}, 0, {z}]\n        Rotation: [0, {}, 10]\n        Scale: [{}, 1.5, 1]\n",
+                30 * k,
+                if k == 2 { -1.0 } else { 1.0 }
+            );
+        }
+    }
+    let path = dir.join("scene.yaml");
+    std::fs::write(&path, yaml).unwrap();
+    path
+}
+
+/// `vkrt trace` walks a scene's instances through the two-level BVH unless another layout is
+/// asked for, and hits what the expanded scene's walk hits; `vkrt bvh` adds its row.
+#[test]
+fn trace_and_bvh_commands_take_instanced_scenes() {
+    use vkrt::bvh::BuilderKind;
+    use vkrt::cli::trace::{run, TraceArgs};
+    use vkrt::output::npy::{read_hits, write_rays};
+    let dir = common::scratch_dir("instancing-commands");
+    let scene_path = write_yaml_scene(&dir);
+    let scene = vkrt::scene::load_scene(&scene_path).unwrap();
+    assert_eq!(scene.instances.len(), 2, "the loader records both Instances entries");
+    let rays = vkrt::query::rays::incoherent(&scene, 3000, 9);
+    let rays_path = dir.join("rays.npy");
+    write_rays(&rays_path, &rays).unwrap();
+    let trace = |layout: Option<vkrt::accel::LayoutKind>, out: &str| {
+        let output = dir.join(out);
+        let args = TraceArgs {
+            scene: scene_path.clone(),
+            rays: rays_path.clone(),
+            output: output.clone(),
+            builder: BuilderKind::Reinsertion,
+            layout,
+            no_triangle_list: false,
+            any_hit: false,
+            order: vkrt::query::ray_order::RayOrder::Auto,
+            device: vkrt::cli::DeviceArgs { device: None },
+        };
+        let report = run(&args).unwrap();
+        (report, read_hits(&output).unwrap())
+    };
+    let (two, two_hits) = trace(None, "two-level.npy");
+    let (one, one_hits) = trace(Some(vkrt::accel::LayoutKind::MultiOrder), "expanded.npy");
+    assert_eq!(two.hits, one.hits);
+    assert!(two.hits > 1000, "{two:?}");
+    let same = two_hits.iter().zip(&one_hits).filter(|(a, b)| a.prim == b.prim).count();
+    assert!(same as f64 >= 0.999 * rays.len() as f64, "{same} of {} on the same triangle", rays.len());
+    // Same counters as the CPU twin of the two-level walk, so it was that walk.
+    let flat = two_level(&scene);
+    let nodes: u64 = rays.iter().map(|r| u64::from(flat.trace(r, false).nodes_visited)).sum();
+    assert_eq!(two.nodes_visited, nodes);
+
+    let args = vkrt::cli::bvh::BvhArgs {
+        scenes: vec![scene_path.clone()],
+        format: vkrt::cli::bvh::Format::Table,
+        width: 24,
+        height: 24,
+        repeat: 1,
+        heatmap: None,
+        heatmap_builder: BuilderKind::Sah,
+        heatmap_layout: vkrt::accel::LayoutKind::Threaded,
+        builders: vec![BuilderKind::Sah],
+        layouts: vec![vkrt::accel::LayoutKind::Threaded],
+        device: vkrt::cli::DeviceArgs { device: None },
+    };
+    let ctx = common::gpu_context();
+    let rows = vkrt::cli::bvh::scene_rows(&ctx, &scene_path, &scene, &args).unwrap();
+    assert_eq!(rows.iter().map(|r| r.layout_name()).collect::<Vec<_>>(), ["threaded", "two-level-threaded"]);
+    let counts = rows[1].two_level.unwrap();
+    assert_eq!((counts.instances, counts.meshes), (9, 3), "eight copies and the ground; two meshes and the ground");
+    assert_eq!(counts.bottom_triangles, 108 + 320 + 2);
+    assert!(rows[1].bytes < rows[0].bytes, "{} bytes against {}", rows[1].bytes, rows[0].bytes);
+    let table = vkrt::cli::bvh::format_rows(&rows, vkrt::cli::bvh::Format::Table, "dev");
+    assert!(table.contains("9 instances of 3 meshes; top level 17 nodes"), "{table}");
+}
