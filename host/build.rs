@@ -38,6 +38,8 @@ struct Variant {
     name: String,
     shader: &'static variants::Shader,
     layout: &'static kinds::LayoutInfo,
+    /// The build over a two-level BVH of instanced meshes (`TWO_LEVEL`, threaded levels).
+    two_level: bool,
     spv: PathBuf,
 }
 
@@ -68,7 +70,13 @@ fn run() -> Result<(), String> {
         for layout in layouts {
             let name = if shader.per_layout { format!("{}_{}", shader.name, layout.id) } else { shader.name.to_string() };
             let dir = if shader.role == Role::Probe { &probes } else { &out };
-            list.push(Variant { spv: dir.join(format!("{name}.spv")), name, shader, layout });
+            list.push(Variant { spv: dir.join(format!("{name}.spv")), name, shader, layout, two_level: false });
+        }
+        // Every product shader that walks a layout also walks the two-level BVH of a scene with
+        // instances (accel::two_level), whose levels are threaded.
+        if shader.per_layout && shader.role == Role::Product {
+            let name = format!("{}_two_level", shader.name);
+            list.push(Variant { spv: out.join(format!("{name}.spv")), name, shader, layout: &kinds::LAYOUTS[0], two_level: true });
         }
     }
     compile_all(&list, &shaders, &generated)?;
@@ -114,6 +122,9 @@ fn compile(glslang: &str, v: &Variant, shaders: &Path, generated: &Path) -> Resu
     for d in v.shader.defines {
         cmd.arg(format!("-D{d}"));
     }
+    if v.two_level {
+        cmd.arg("-DTWO_LEVEL");
+    }
     cmd.arg("-o").arg(&v.spv).arg(shaders.join(v.shader.source));
     let output = cmd.output().map_err(|e| {
         format!(
@@ -146,8 +157,11 @@ fn write_table(path: &Path, list: &[Variant]) -> Result<(), String> {
         let upper = shader.name.to_uppercase();
         if shader.per_layout {
             let _ = writeln!(t, "/// `{}` for each BVH layout, in `LayoutKind` order.", shader.name);
-            let items: Vec<String> = of.iter().map(|v| bytes(v)).collect();
-            let _ = writeln!(t, "pub const {upper}: [&[u8]; {}] = [{}];", of.len(), items.join(", "));
+            let items: Vec<String> = of.iter().filter(|v| !v.two_level).map(|v| bytes(v)).collect();
+            let _ = writeln!(t, "pub const {upper}: [&[u8]; {}] = [{}];", items.len(), items.join(", "));
+            if let Some(v) = of.iter().find(|v| v.two_level) {
+                let _ = writeln!(t, "/// `{}` over a two-level BVH (`accel::two_level`).\npub const {upper}_TWO_LEVEL: &[u8] = {};", shader.name, bytes(v));
+            }
         } else {
             let _ = writeln!(t, "/// `{}`.\npub const {upper}: &[u8] = {};", shader.name, bytes(of[0]));
         }

@@ -286,3 +286,60 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
     let table = vkrt::cli::bvh::format_rows(&rows, vkrt::cli::bvh::Format::Table, "dev");
     assert!(table.contains("9 instances of 3 meshes; top level 17 nodes"), "{table}");
 }
+
+/// Whitted and path renders of a scene with instances: through the two-level BVH (the
+/// prepared scene's default for it), and of its expanded copies (the same scene with its
+/// instance groups forgotten, walked as one tree).
+fn renders(scene: &Scene) -> [(vkrt::integrator::Image, vkrt::integrator::Image); 2] {
+    let ctx = common::gpu_context();
+    let mut expanded = scene.clone();
+    expanded.instances.clear();
+    let settings = vkrt::integrator::RenderSettings { width: 64, height: 48, spp: 1, ..Default::default() };
+    let path = common::path_settings(64, 48, 16);
+    let mut out = Vec::new();
+    for s in [scene, &expanded] {
+        let gpu = common::upload(&ctx, s);
+        assert_eq!(gpu.bvh.instances.is_some(), !s.instances.is_empty());
+        let whitted = vkrt::integrator::whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap().0;
+        let path = common::render_path_on(&ctx, &gpu, &path).image();
+        out.push((whitted, path));
+    }
+    common::assert_no_validation_messages(&ctx);
+    let expanded = out.pop().unwrap();
+    let two_level = out.pop().unwrap();
+    [(two_level.0, expanded.0), (two_level.1, expanded.1)]
+}
+
+/// A point light above the scene, a camera looking down on it.
+fn lit(mut scene: Scene) -> Scene {
+    scene.materials.push(vkrt::scene::Material::default());
+    scene.lights.push(vkrt::scene::Light::Point { position: Vec3::new(4.0, 12.0, 6.0), intensity: Vec3::splat(150.0) });
+    scene.camera = vkrt::scene::Camera { eye: Vec3::new(0.0, 14.0, 22.0), target: Vec3::ZERO, ..scene.camera };
+    scene
+}
+
+/// Under whole-number moves the camera rays (from the camera's whole-number eye) hit the same
+/// triangles at the same t, and shading sees the same world triangle: the Whitted image has
+/// the expanded scene's bytes. A path's later rays start at surface points, whose move into
+/// object space rounds, so a few of its pixels part.
+#[test]
+fn exact_translations_render_the_expanded_scene_s_bytes() {
+    let [(w2, w1), (p2, p1)] = renders(&lit(translated_scene()));
+    assert!(w1.pixels.iter().any(|p| p[0] > 0.0), "the Whitted image is black");
+    assert!(w2.pixels == w1.pixels, "Whitted: the images differ");
+    let same = p2.pixels.iter().zip(&p1.pixels).filter(|(a, b)| a == b).count();
+    assert!(same as f64 >= 0.95 * p1.pixels.len() as f64, "path: {same} of {} pixels the same", p1.pixels.len());
+}
+
+#[test]
+fn turned_copies_render_the_expanded_scene_to_rounding() {
+    let [(w2, w1), (p2, p1)] = renders(&lit(turned_scene()));
+    for (name, a, b) in [("Whitted", &w2, &w1), ("path", &p2, &p1)] {
+        let sum = |img: &vkrt::integrator::Image| img.pixels.iter().map(|p| f64::from(p[0] + p[1] + p[2])).sum::<f64>();
+        let (sa, sb) = (sum(a), sum(b));
+        assert!(sb > 0.0 && (sa - sb).abs() <= 0.01 * sb, "{name}: {sa} against {sb}");
+        // Paths part only where rounding sends a ray another way: most pixels are the same.
+        let close = a.pixels.iter().zip(&b.pixels).filter(|(x, y)| (0..3).all(|k| (x[k] - y[k]).abs() <= 1e-3 * (1.0 + y[k].abs()))).count();
+        assert!(close as f64 >= 0.9 * a.pixels.len() as f64, "{name}: {close} of {} pixels alike", a.pixels.len());
+    }
+}

@@ -10,7 +10,8 @@
 //! and on the tree's NODE_NONE continues in the top level at the leaf's escape link with the
 //! world ray. What it carries besides: that escape link, whether it is in object space, the
 //! instance's primitive base and mirror flag (Embree's and pbrt's instancing, without their
-//! stack). Shader: `shaders/include/traverse_two_level.glsl`, the `trace_two_level` variant.
+//! stack). Shader: `shaders/include/traverse_two_level.glsl`, in the `_two_level` build of every
+//! tracing shader.
 //!
 //! The scene's triangles that are no instance's (`scene::instance::InstanceGroup`) form one
 //! more mesh under an identity instance: its object ray is the world ray to the bit (each
@@ -152,9 +153,15 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
     let instances = placements
         .iter()
         .map(|&(mesh, world, prim_base, mirrored)| {
-            let inv = world.inverse();
-            let rows = [inv.row(0).to_array(), inv.row(1).to_array(), inv.row(2).to_array()];
-            GpuInstance { world_to_object: rows, root: roots[mesh], prim_base, flags: if mirrored { INSTANCE_MIRRORED } else { 0 }, _pad0: 0 }
+            let rows = |m: Mat4| [m.row(0).to_array(), m.row(1).to_array(), m.row(2).to_array()];
+            GpuInstance {
+                world_to_object: rows(world.inverse()),
+                object_to_world: rows(world),
+                root: roots[mesh],
+                prim_base,
+                flags: if mirrored { INSTANCE_MIRRORED } else { 0 },
+                _pad0: 0,
+            }
         })
         .collect();
     Ok((TwoLevel { nodes, top_nodes, instances, meshes: meshes.len(), top_sah }, triangles))

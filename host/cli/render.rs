@@ -80,7 +80,9 @@ pub struct RenderArgs {
     /// BVH builder: median, sah (binned SAH), sweep-sah or reinsertion (binned SAH, refined) [default: reinsertion].
     #[arg(hide = true, long, value_enum)]
     pub builder: Option<BuilderKind>,
-    /// BVH layout the shaders walk [default: threaded]; none changes the image.
+    /// BVH layout the shaders walk [default: threaded; for a scene with `Instances` a two-level
+    /// BVH of threaded levels, one copy of each mesh, which another layout expands]; none
+    /// changes the image beyond rounding.
     #[arg(hide = true, long, value_enum)]
     pub layout: Option<LayoutKind>,
     /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
@@ -667,7 +669,12 @@ fn report(
     let features = if args.all_features { Features::all() } else { gpu.info.features.clone() };
     let how = if args.all_features { "unspecialised, --all-features" } else { "specialised to the scene" };
     let name = integrator.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
-    eprintln!("shader variant: {name} {} ({how}): {}", gpu.bvh.layout.name(), features.variant_name());
+    // accel::two_level: a tree per mesh under a top level over the instances.
+    let walk = match prepared.arrays().map(|a| a.instances.len()) {
+        Ok(n) if n > 0 => format!("two-level {} ({n} instances)", gpu.bvh.layout.name()),
+        _ => gpu.bvh.layout.name().to_string(),
+    };
+    eprintln!("shader variant: {name} {walk} ({how}): {}", features.variant_name());
     eprint!("{}", features.report());
     // The list's walls (accel::walls): shadow rays skip them.
     eprintln!("triangle list: {} triangles, {} of them walls that shadow rays skip", gpu.bvh.list_count, gpu.list_walls.count_ones());

@@ -88,6 +88,8 @@ gpu_structs! {
     pub struct GpuInstance {
         /// The world-to-object transform's three rows: object = rows * (world, 1).
         pub world_to_object: [[f32; 4]; 3],
+        /// The object-to-world transform's rows: where shading puts a hit triangle's vertices.
+        pub object_to_world: [[f32; 4]; 3],
         /// The mesh's bottom-level root in the node array.
         pub root: u32,
         /// Primitive id of this copy's first triangle (`Scene::triangles`).
@@ -104,4 +106,4 @@ const _: () = assert!(std::mem::size_of::<GpuParentNode>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuCompactNode>() == 16);
 const _: () = assert!(std::mem::size_of::<GpuWideNode>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 48);
-const _: () = assert!(std::mem::size_of::<GpuInstance>() == 64);
+const _: () = assert!(std::mem::size_of::<GpuInstance>() == 112);

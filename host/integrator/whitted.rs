@@ -44,11 +44,12 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
     let accum = Buffer::new(ctx, "accumulation", pixels * 16, vk::BufferUsageFlags::STORAGE_BUFFER, MemoryLocation::Device)?;
     accum.clear()?;
     let features = settings.features(&scene.info);
-    let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().copied().chain([(BINDING_ACCUM, BindingKind::Storage)]).collect();
+    let bindings: Vec<(u32, BindingKind)> =
+        INTEGRATOR_BINDINGS.iter().chain(scene.bvh.instance_bindings()).copied().chain([(BINDING_ACCUM, BindingKind::Storage)]).collect();
     let pipeline = ComputePipeline::specialized(
         ctx,
         "whitted",
-        Tracing::Whitted.spirv(scene.bvh.layout),
+        scene.bvh.spirv(Tracing::Whitted),
         &bindings,
         std::mem::size_of::<GpuPush>() as u32,
         &[features.spec_constants(), scene.trace_spec_constants()].concat(),

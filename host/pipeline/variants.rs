@@ -25,7 +25,9 @@ pub struct Shader {
     pub source: &'static str,
     /// Preprocessor defines (`NAME` or `NAME=VALUE`).
     pub defines: &'static [&'static str],
-    /// Built once per BVH layout of `accel::kinds::LAYOUTS`, each with that layout's define;
+    /// Built once per BVH layout of `accel::kinds::LAYOUTS`, each with that layout's define,
+    /// and (a product shader) once more as `<name>_two_level` with `TWO_LEVEL`, for the
+    /// two-level BVH of a scene with instances (`accel::two_level`, threaded levels);
     /// otherwise built once, walking the threaded layout if it traces at all.
     pub per_layout: bool,
     pub role: Role,
@@ -62,9 +64,6 @@ pub const SHADERS: &[Shader] = &[
     Shader { name: "path_mirrors_casters_lean", source: "path.comp", defines: &["LEAN", "MIRRORS", "CASTERS"], per_layout: true, role: Role::Product },
     // Batch ray queries see geometry only.
     Shader { name: "trace", source: "trace.comp", defines: &[], per_layout: true, role: Role::Product },
-    // The same over a two-level BVH of instanced meshes (accel::two_level), whose levels are
-    // threaded arrays.
-    Shader { name: "trace_two_level", source: "trace.comp", defines: &["TWO_LEVEL"], per_layout: false, role: Role::Product },
     // The textbook intersection tests, only to measure what the robust ones cost
     // (tools/bench: vkrt-robust-cost).
     Shader { name: "trace_plain", source: "trace.comp", defines: &["PLAIN_INTERSECT"], per_layout: false, role: Role::Bench },

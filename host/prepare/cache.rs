@@ -223,6 +223,12 @@ pub fn prepare_scene(
         return Ok((Prepared::Built { prepared, summary }, CacheOutcome::Off, None, load_seconds));
     };
     let spent = load_seconds + prepared.times.bvh() + prepared.times.shading;
+    if !prepared.flat.nodes.instances().is_empty() {
+        // Its trees are over one copy of each mesh: quick to build again, and the entry format
+        // has no place for the instances.
+        let why = format!("a scene with instances builds its two-level BVH in {:.2} s; it is not cached", prepared.times.bvh());
+        return Ok((Prepared::Built { prepared, summary }, CacheOutcome::NotStored { why }, None, load_seconds));
+    }
     if spent < cache.min_prepare_seconds {
         let why = format!("prepared in {spent:.2} s, under the {:.1} s worth caching", cache.min_prepare_seconds);
         return Ok((Prepared::Built { prepared, summary }, CacheOutcome::NotStored { why }, None, load_seconds));
@@ -351,6 +357,8 @@ impl CachedScene {
             nodes: self.array(0)?,
             push: self.meta.push,
             triangles: self.array(1)?,
+            // Never stored for a two-level BVH (`prepare_scene`).
+            instances: &[],
             shading: self.array(2)?,
             materials: self.array(3)?,
             lights: self.array(4)?,

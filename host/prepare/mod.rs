@@ -21,7 +21,7 @@ use crate::accel::{self, triangle_list, FlatBvh, LayoutKind};
 use crate::bvh::{self, BuildConfig, BuilderKind};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::TEXTURE_NONE;
-use crate::gpu_abi::{GpuEmitter, GpuLight, GpuLightPick, GpuMaterial, GpuPush, GpuShading, GpuTangents, GpuTexture, GpuTriangle, GpuUv};
+use crate::gpu_abi::{GpuEmitter, GpuInstance, GpuLight, GpuLightPick, GpuMaterial, GpuPush, GpuShading, GpuTangents, GpuTexture, GpuTriangle, GpuUv};
 use crate::scene::camera::CameraFrame;
 use crate::scene::{Camera, Scene, Sky};
 use anyhow::{Context as _, Result};
@@ -158,6 +158,8 @@ pub struct SceneArrays<'a> {
     /// The BVH's push constants (`FlatBvh::push`: node count, layout data).
     pub push: GpuPush,
     pub triangles: &'a [GpuTriangle],
+    /// A two-level BVH's instances (`accel::two_level`); empty for a one-level layout.
+    pub instances: &'a [GpuInstance],
     pub shading: &'a [GpuShading],
     pub materials: &'a [GpuMaterial],
     pub lights: &'a [GpuLight],
@@ -180,6 +182,7 @@ impl PreparedScene {
             nodes: self.flat.nodes.bytes(),
             push: self.flat.push(),
             triangles: &self.flat.triangles,
+            instances: self.flat.nodes.instances(),
             shading: &self.buffers.shading,
             materials: &self.buffers.materials,
             lights: &self.buffers.lights,
@@ -193,8 +196,11 @@ impl PreparedScene {
         }
     }
 
+    /// Prepares `scene` as `options` say: a scene with instances walked with the threaded
+    /// layout gets its two-level BVH ([`build_two_level`]), any other scene or layout the
+    /// one-level tree over every triangle ([`build_bvh`]).
     pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
-        let (flat, mut times) = build_bvh(scene, options)?;
+        let (flat, mut times) = if walks_two_levels(scene, options.layout) { build_two_level(scene, options)? } else { build_bvh(scene, options)? };
         let start = std::time::Instant::now();
         let info = SceneInfo::of(scene);
         let buffers = SceneBuffers::new(scene);
@@ -239,11 +245,17 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
     Ok((flat, PrepareTimes { boxes: t_boxes, tree: t_tree - t_boxes, flatten: t_flat - t_tree, shading: 0.0 }))
 }
 
+/// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the
+/// layout is the threaded one its levels are laid out in (another layout walks the expanded
+/// copies).
+pub fn walks_two_levels(scene: &Scene, layout: LayoutKind) -> bool {
+    !scene.instances.is_empty() && layout == LayoutKind::Threaded
+}
+
 /// The two-level BVH of a scene with instances (`accel::two_level`: one tree per mesh, a top
 /// level over the instances), built with `options.builder`, as a [`FlatBvh`] without a triangle
-/// list whose node array names its instances: what `vkrt trace` and `vkrt bvh` walk for such
-/// a scene. The renders still walk the expanded copies ([`build_bvh`]). The time is all in
-/// `tree`.
+/// list whose node array names its instances: what `vkrt trace`, `vkrt bvh` and the renders
+/// walk for such a scene ([`walks_two_levels`]). The time is all in `tree`.
 pub fn build_two_level(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
     let clock = std::time::Instant::now();
     let (nodes, triangles) = accel::two_level::build(scene, options.builder, &options.build).context("building the two-level BVH")?;

@@ -8,8 +8,9 @@ use super::{PreparedScene, SceneArrays, SceneInfo};
 use crate::accel::{FlatBvh, LayoutKind};
 use crate::gpu::{Buffer, Context, TexelArray, TexelFormat};
 use crate::gpu_abi::constants::*;
-use crate::gpu_abi::{GpuPush, GpuTriangle};
-use crate::pipeline::ComputePipeline;
+use crate::gpu_abi::{GpuInstance, GpuPush, GpuTriangle};
+use crate::pipeline::shaders::Tracing;
+use crate::pipeline::{BindingKind, ComputePipeline};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use bytemuck::Zeroable;
@@ -37,12 +38,15 @@ impl<'a> GpuBvh<'a> {
     /// Uploads `flat`; fails, naming the array, if one holds more texels than the device lets a
     /// texel buffer address.
     pub fn upload(ctx: &'a Context, flat: &FlatBvh) -> Result<Self> {
-        let mut bvh = Self::upload_arrays(ctx, flat.layout(), flat.nodes.bytes(), &flat.triangles, flat.push())?;
-        let instances = flat.nodes.instances();
+        Self::upload_arrays(ctx, flat.layout(), flat.nodes.bytes(), &flat.triangles, flat.push())?.with_instances(ctx, flat.nodes.instances())
+    }
+
+    /// With a two-level BVH's instances uploaded beside it (none: as it is).
+    pub fn with_instances(mut self, ctx: &'a Context, instances: &[GpuInstance]) -> Result<Self> {
         if !instances.is_empty() {
-            bvh.instances = Some(TexelArray::with_data(ctx, "instances", instances, TexelFormat::Rgba32Uint)?);
+            self.instances = Some(TexelArray::with_data(ctx, "instances", instances, TexelFormat::Rgba32Uint)?);
         }
-        Ok(bvh)
+        Ok(self)
     }
 
     /// The same from the arrays themselves (`layout`'s node bytes, the triangles in leaf order
@@ -75,6 +79,25 @@ impl<'a> GpuBvh<'a> {
         }
         pipeline.bind_texels(BINDING_TRIANGLES, &self.triangles.view)?;
         pipeline.bind(BINDING_TRIANGLE_LIST, &self.list)
+    }
+
+    /// The SPIR-V of `shader` that walks this BVH: the build for its layout, or the two-level one.
+    pub fn spirv(&self, shader: Tracing) -> &'static [u8] {
+        if self.instances.is_some() {
+            shader.spirv_two_level()
+        } else {
+            shader.spirv(self.layout)
+        }
+    }
+
+    /// The bindings a pipeline walking this BVH needs besides the node and triangle arrays and
+    /// the triangle list: a two-level BVH's instances.
+    pub fn instance_bindings(&self) -> &'static [(u32, BindingKind)] {
+        if self.instances.is_some() {
+            &[(BINDING_INSTANCES, BindingKind::Texels)]
+        } else {
+            &[]
+        }
     }
 
     /// The specialization constant every tracing pipeline for this BVH needs: the triangle
@@ -161,7 +184,7 @@ impl<'a> GpuScene<'a> {
         let (mirrors, planes) = super::mirrors::by_plane(&mirrors);
         let casters = super::casters::caustic_casters(a.triangles, a.shading, &materials, a.emitters, !a.lights.is_empty(), info.radius);
         Ok(Self {
-            bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?,
+            bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?.with_instances(ctx, a.instances)?,
             list_walls: list_walls(a, info),
             shading: TexelArray::with_data(ctx, "shading data", a.shading, Rgba32Uint)?,
             materials: TexelArray::with_data(ctx, "materials", &materials, Rgba32Uint)?,

@@ -107,7 +107,7 @@ impl<'a> RayQuery<'a> {
     /// Queries walking `bvh` with the product's `trace.comp` for its layout (`trace_two_level`
     /// for a two-level BVH).
     pub fn new(ctx: &'a Context, bvh: &GpuBvh) -> Result<Self> {
-        let spv = if bvh.instances.is_some() { shaders::TRACE_TWO_LEVEL } else { shaders::Tracing::Trace.spirv(bvh.layout) };
+        let spv = bvh.spirv(shaders::Tracing::Trace);
         Self::with_shader(ctx, bvh, spv)
     }
 
@@ -124,9 +124,7 @@ impl<'a> RayQuery<'a> {
             (BINDING_RAYS, BindingKind::Storage),
             (BINDING_HITS, BindingKind::Storage),
         ];
-        if bvh.instances.is_some() {
-            bindings.push((BINDING_INSTANCES, BindingKind::Texels));
-        }
+        bindings.extend_from_slice(bvh.instance_bindings());
         let pipeline = ComputePipeline::specialized(ctx, "trace", spv, &bindings, size_of::<GpuPush>() as u32, &bvh.spec_constants())?;
         bvh.bind(&pipeline)?;
         let slots = (0..IN_FLIGHT).map(|_| Slot::new(ctx)).collect::<Result<Vec<_>>>()?;

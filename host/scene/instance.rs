@@ -2,9 +2,9 @@
 //! (scene/lab_yaml.rs). Each copy is expanded into the scene's triangles at load, as glTF's
 //! node placements are, so the triangles a scene would hold are counted against
 //! [`super::assemble::MAX_PLACED_TRIANGLES`] before anything is copied. [`place_copies`] also
-//! records how the copies were made ([`InstanceGroup`]), so that `vkrt trace` and `vkrt bvh`
-//! can build a two-level BVH over one copy of the mesh (`accel::two_level`); the renders still
-//! walk the expanded copies.
+//! records how the copies were made ([`InstanceGroup`]), so that the prepare stage can build a
+//! two-level BVH over one copy of the mesh (`accel::two_level`); shading still reads the
+//! expanded copies' normals, texture coordinates and materials.
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
 

@@ -50,6 +50,7 @@ struct GpuTriangle {
 
 struct GpuInstance {
     vec4 world_to_object[3];
+    vec4 object_to_world[3];
     uint root;
     uint prim_base;
     uint flags;

@@ -22,6 +22,9 @@ struct Hit {
     uint tris_tested;
     // Index of the hit triangle in leaf order (triangles[]), for fetching its vertices.
     uint slot;
+    // The instance hit in a two-level BVH (TWO_LEVEL builds, traverse_two_level.glsl): the
+    // triangle's vertices are in its object space. 0 otherwise.
+    uint instance;
 };
 
 Hit hit_none() {
@@ -33,6 +36,7 @@ Hit hit_none() {
     hit.nodes_visited = 0u;
     hit.tris_tested = 0u;
     hit.slot = 0u;
+    hit.instance = 0u;
     return hit;
 }
 

@@ -5,6 +5,9 @@
 #include "leaf.glsl"
 #include "features.glsl"
 #include "texture.glsl"
+#ifdef TWO_LEVEL
+#include "instance.glsl"
+#endif
 
 struct Surface {
     vec3 p;
@@ -21,6 +24,18 @@ struct Surface {
 
 Surface surface_at(Hit h, vec3 dir) {
     GpuTriangle tri = load_triangle(h.slot);
+#ifdef TWO_LEVEL
+    // The instance's copy of the triangle, in the world and in the order of the vertices the
+    // loader placed (a mirror swaps the second and third, as the hit's barycentrics are):
+    // the expanded scene's triangle, to rounding (to the bit under a translation).
+    GpuInstance inst = load_instance(h.instance);
+    vec3 v1 = transform_point(inst.object_to_world, tri.v1);
+    vec3 v2 = transform_point(inst.object_to_world, tri.v2);
+    bool mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
+    tri.v0 = transform_point(inst.object_to_world, tri.v0);
+    tri.v1 = mirrored ? v2 : v1;
+    tri.v2 = mirrored ? v1 : v2;
+#endif
     GpuShading sh = load_shading(h.prim);
     Surface s;
     float w = 1.0 - h.u - h.v;

@@ -11,34 +11,7 @@
 #ifndef VKRT_TRAVERSE_TWO_LEVEL_GLSL
 #define VKRT_TRAVERSE_TWO_LEVEL_GLSL
 #include "threaded_walk.glsl"
-
-// GpuInstance, 64 B: three world-to-object rows, then root, prim_base, flags, pad.
-#define INSTANCE_TEXELS 4u
-layout(set = 0, binding = BINDING_INSTANCES) uniform utextureBuffer instance_texels;
-
-GpuInstance load_instance(uint i) {
-    GpuInstance inst;
-    for (uint k = 0u; k < 3u; k++) {
-        inst.world_to_object[k] = uintBitsToFloat(texelFetch(instance_texels, int(INSTANCE_TEXELS * i + k)));
-    }
-    uvec4 w = texelFetch(instance_texels, int(INSTANCE_TEXELS * i + 3u));
-    inst.root = w.x;
-    inst.prim_base = w.y;
-    inst.flags = w.z;
-    inst._pad0 = 0u;
-    return inst;
-}
-
-// One row of the world-to-object transform applied to (v, w), summed left to right and never
-// fused into an fma (`precise`), as the CPU twin's row_dot.
-float row_dot(vec4 row, vec3 v, float w) {
-    precise float a = row.x * v.x;
-    precise float b = row.y * v.y;
-    precise float c = row.z * v.z;
-    precise float d = row.w * w;
-    precise float s = ((a + b) + c) + d;
-    return s;
-}
+#include "instance.glsl"
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
@@ -52,6 +25,7 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     uint resume = NODE_NONE;
     uint prim_base = 0u;
     bool mirrored = false;
+    uint instance = 0u;
     while (true) {
         if (index == NODE_NONE) {
             if (!in_object) break;
@@ -73,11 +47,8 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
         }
         if (!in_object) {
             GpuInstance inst = load_instance(node.leaf >> LEAF_COUNT_BITS);
-            vec3 o = vec3(row_dot(inst.world_to_object[0], origin, 1.0), row_dot(inst.world_to_object[1], origin, 1.0),
-                          row_dot(inst.world_to_object[2], origin, 1.0));
-            vec3 d = vec3(row_dot(inst.world_to_object[0], dir, 0.0), row_dot(inst.world_to_object[1], dir, 0.0),
-                          row_dot(inst.world_to_object[2], dir, 0.0));
-            r = ray_pre(o, d, tmin, tmax0);
+            r = ray_pre(transform_point(inst.world_to_object, origin), transform_dir(inst.world_to_object, dir), tmin, tmax0);
+            instance = node.leaf >> LEAF_COUNT_BITS;
             resume = node.escape;
             index = inst.root;
             prim_base = inst.prim_base;
@@ -87,6 +58,7 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
         }
         if (test_leaf(node.leaf, r, tmax, hit, any_hit)) {
             hit.prim += prim_base;
+            hit.instance = instance;
             if (mirrored) {
                 float u = hit.u;
                 hit.u = hit.v;

@@ -84,7 +84,7 @@ impl<'a> PathGpu<'a> {
         let blocks = Buffer::new(ctx, "block samples", block_count as u64 * 8, storage, MemoryLocation::Device)?;
         let rays = Buffer::new(ctx, "ray counts", pixels * 4, storage, MemoryLocation::Device)?;
         rays.clear()?;
-        let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).copied().collect();
+        let bindings: Vec<(u32, BindingKind)> = INTEGRATOR_BINDINGS.iter().chain(PATH_BINDINGS).chain(scene.bvh.instance_bindings()).copied().collect();
         let features = img.features(&scene.info);
         let probes_mirrors = settings.mirror_sampling && features.has(crate::prepare::features::MIRROR);
         // A value per pixel for the mirror variant; the plain shader never reads it, but the
@@ -106,7 +106,7 @@ impl<'a> PathGpu<'a> {
         let pipeline = ComputePipeline::specialized(
             ctx,
             shader.name(),
-            shader.spirv(scene.bvh.layout),
+            scene.bvh.spirv(shader),
             &bindings,
             std::mem::size_of::<GpuPush>() as u32,
             &[features.spec_constants(), scene.trace_spec_constants(), vec![(SPEC_LIGHT_CONNECTIONS, connects as u32)]].concat(),
