@@ -30,7 +30,7 @@ pub struct GpuBvh<'a> {
     /// the rest.
     pub push: GpuPush,
     /// A two-level BVH's instances (BINDING_INSTANCES, `accel::two_level`): `nodes` then holds
-    /// both levels, walked by `trace_two_level`. None for a one-level BVH.
+    /// both levels, walked by the shaders' `_two_level` builds. None for a one-level BVH.
     pub instances: Option<TexelArray<'a>>,
 }
 

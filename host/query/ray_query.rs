@@ -104,8 +104,8 @@ impl Placement<'_> {
 }
 
 impl<'a> RayQuery<'a> {
-    /// Queries walking `bvh` with the product's `trace.comp` for its layout (`trace_two_level`
-    /// for a two-level BVH).
+    /// Queries walking `bvh` with the product's `trace.comp` for its layout (`trace_two_level`,
+    /// its TWO_LEVEL build, for a two-level BVH).
     pub fn new(ctx: &'a Context, bvh: &GpuBvh) -> Result<Self> {
         let spv = bvh.spirv(shaders::Tracing::Trace);
         Self::with_shader(ctx, bvh, spv)

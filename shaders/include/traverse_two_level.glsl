@@ -1,5 +1,5 @@
-// The two-level walk over instanced meshes (`trace_two_level`, the TWO_LEVEL build of
-// trace.comp): a threaded top level over the instances' world boxes, whose leaves each name an
+// The two-level walk over instanced meshes (the `_two_level` build of every tracing shader,
+// TWO_LEVEL): a threaded top level over the instances' world boxes, whose leaves each name an
 // instance, and a threaded tree per mesh in object space, all in one node array.
 // CPU twin: accel::two_level::trace (host/accel/two_level.rs), which says why it is built so.
 //
