@@ -183,6 +183,32 @@ fn see_through_texels_show_what_is_behind_in_every_layout() {
     }
 }
 
+/// The same cut-out quad as an instance of a mesh (after the backdrop, so its primitive ids are
+/// not its mesh's own), walked through the two-level BVH: its texels are the copy's, and a
+/// mirrored copy shows them mirrored.
+#[test]
+fn see_through_texels_of_instances_are_the_copy_s() {
+    use vkrt::scene::instance::{place_copies, Placement};
+    let green = Material { name: "green".into(), diffuse: Vec3::new(0.0, 1.0, 0.0), ..Material::default() };
+    let backdrop = uv_quad(Vec3::new(-4.0, -4.0, -1.0), Vec3::X * 8.0, Vec3::Y * 8.0, Vec2::ZERO, Vec2::ONE, 1).to_vec();
+    let quad = uv_quad(Vec3::new(-1.0, -1.0, 0.0), Vec3::X * 2.0, Vec3::Y * 2.0, Vec2::ZERO, Vec2::ONE, 0);
+    for mirror in [false, true] {
+        let mut scene = albedo_scene(backdrop.clone(), vec![cutout_material(), green.clone()], vec![checker_alpha()]);
+        let scale = Vec3::new(if mirror { -1.0 } else { 1.0 }, 1.0, 1.0);
+        place_copies(&mut scene, &quad, vec![Placement::from_trs(Vec3::ZERO, Vec3::ZERO, scale).unwrap()]);
+        assert_eq!(scene.instances.len(), 1);
+        let image = whitted_image(&scene, LayoutKind::Threaded, (W, W), false);
+        for j in 0..W {
+            for i in 0..W {
+                let texel_x = if mirror { W - 1 - i } else { i };
+                let opaque = (texel_x < 4) == (j < 4);
+                let want = if opaque { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+                assert_close(&format!("mirror {mirror} pixel ({i}, {j})"), image.get(i, j), want, 1e-4);
+            }
+        }
+    }
+}
+
 /// A white floor at z = 0 lit by a directional light from (1, 0, 0.5); a cut-out caster at
 /// z = 0.5, out of the camera's view (x in [1, 3]), whose top half is opaque. Its shadow falls on
 /// x in [0, 1], top half only: light passes through the see-through half.

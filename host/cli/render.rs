@@ -661,6 +661,16 @@ fn report(
             }
         }
     }
+    if let Ok(a) = prepared.arrays() {
+        let mib = |bytes: usize| bytes as f64 / f64::from(1 << 20);
+        let bvh = a.nodes.len() + std::mem::size_of_val(a.triangles) + std::mem::size_of_val(a.instances);
+        let shading = std::mem::size_of_val(a.shading) + std::mem::size_of_val(a.uvs) + std::mem::size_of_val(a.tangents);
+        eprintln!(
+            "device arrays: BVH {:.1} MiB (nodes and triangles in leaf order), shading {:.1} MiB (normals, texture coordinates, tangents)",
+            mib(bvh),
+            mib(shading)
+        );
+    }
     if let Ok(a) = prepared.arrays().map(|a| (a.textures.len(), std::mem::size_of_val(a.texels))) {
         if a.0 > 0 {
             eprintln!("textures: {} ({} MiB of texels)", a.0, a.1 >> 20);

@@ -27,6 +27,14 @@ struct Hit {
     uint instance;
 };
 
+#ifdef TWO_LEVEL
+// While the two-level walk (traverse_two_level.glsl) is in an instance's mesh: the instance's
+// first primitive id and mirror flag, for the alpha test of the copy's triangles; 0 and false
+// everywhere else (the triangle list's tests, which are in the world).
+uint leaf_prim_base = 0u;
+bool leaf_mirrored = false;
+#endif
+
 Hit hit_none() {
     Hit hit;
     hit.t = 1.0 / 0.0;
@@ -49,7 +57,13 @@ bool test_triangle(GpuTriangle tri, uint slot, RayPre r, inout float tmax, inout
     if (!intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) return false;
 #ifdef ALPHA_TEST
     // A see-through texel is no hit at all (alpha.glsl).
+#ifdef TWO_LEVEL
+    // In an instance's mesh the texel is the copy's: its primitive id and, under a mirror,
+    // its own vertex order's barycentrics.
+    if (!alpha_passes(tri.prim + leaf_prim_base, leaf_mirrored ? v : u, leaf_mirrored ? u : v, r)) return false;
+#else
     if (!alpha_passes(tri.prim, u, v, r)) return false;
+#endif
 #endif
     tmax = t;
     hit.t = t;

@@ -32,6 +32,8 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             index = resume;
             in_object = false;
             r = world;
+            leaf_prim_base = 0u;
+            leaf_mirrored = false;
             continue;
         }
         GpuNode node = load_node(index);
@@ -53,6 +55,8 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             index = inst.root;
             prim_base = inst.prim_base;
             mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
+            leaf_prim_base = prim_base;
+            leaf_mirrored = mirrored;
             in_object = true;
             continue;
         }
@@ -64,7 +68,11 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
                 hit.u = hit.v;
                 hit.v = u;
             }
-            if (any_hit) return hit;
+            if (any_hit) {
+                leaf_prim_base = 0u;
+                leaf_mirrored = false;
+                return hit;
+            }
         }
         index = node.escape;
     }
