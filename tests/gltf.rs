@@ -95,6 +95,29 @@ fn a_mesh_used_by_two_nodes_is_expanded_twice_and_a_mirrored_copy_keeps_its_fron
     assert!(first.cross().z > 0.0 && mirrored.cross().z > 0.0, "geometric normals {} {}", first.cross(), mirrored.cross());
     let n = mirrored.n.expect("normals");
     assert!(n.iter().all(|n| n.abs_diff_eq(Vec3::Z, 1e-6)), "mirrored normals {n:?}");
+    // The two copies are one instance group: the second mirrored.
+    assert_eq!(scene.instances.len(), 1);
+    let copies = &scene.instances[0].copies;
+    assert_eq!(copies.iter().map(|c| (c.0, c.1.mirrored())).collect::<Vec<_>>(), vec![(0, false), (1, true)]);
+    every_copy_is_hit_through_the_two_level_bvh(&scene);
+}
+
+/// Rays straight down -z onto each triangle's centroid hit that triangle through the scene's
+/// two-level BVH (`accel::two_level`), as they do in the expanded scene.
+fn every_copy_is_hit_through_the_two_level_bvh(scene: &vkrt::scene::Scene) {
+    let flat = vkrt::prepare::build_two_level(scene, &Default::default()).unwrap().0;
+    assert!(!flat.nodes.instances().is_empty());
+    for (prim, t) in scene.triangles.iter().enumerate() {
+        let c = t.centroid();
+        let ray = vkrt::gpu_abi::GpuRay { origin: [c.x, c.y, c.z + 20.0], tmin: 0.0, direction: [0.0, 0.0, -1.0], tmax: f32::INFINITY };
+        let hit = flat.trace(&ray, false);
+        let expected = vkrt::accel::leaf::brute_force(&scene.triangles, &ray);
+        assert_eq!(hit.prim, prim as u32, "{ray:?}");
+        assert!(
+            (hit.t - expected.t).abs() <= 1e-5 * expected.t && (hit.u - expected.u).abs() < 1e-5 && (hit.v - expected.v).abs() < 1e-5,
+            "{hit:?} against {expected:?}"
+        );
+    }
 }
 
 /// A textured quad doc: 2 triangles over [-1, 1]^2 at z = 0, UVs with glTF's v = 0 at the top.
@@ -791,6 +814,11 @@ fn ext_mesh_gpu_instancing_draws_the_mesh_once_per_instance_as_child_nodes_would
 
     assert_eq!(instanced.triangles.len(), 3);
     assert_eq!(expanded.triangles.len(), 3);
+    // Both are one instance group of three copies, traced as such.
+    for scene in [&instanced, &expanded] {
+        assert_eq!(scene.instances.iter().map(|g| g.copies.len()).collect::<Vec<_>>(), vec![3]);
+        every_copy_is_hit_through_the_two_level_bvh(scene);
+    }
     for (a, b) in instanced.triangles.iter().zip(&expanded.triangles) {
         for k in 0..3 {
             assert_near("position", a.p[k], b.p[k]);

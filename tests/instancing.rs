@@ -90,16 +90,17 @@ fn two_level(scene: &Scene) -> vkrt::accel::FlatBvh {
 fn loaders_record_how_copies_were_placed() {
     let scene = turned_scene();
     assert_eq!(scene.instances.len(), 2);
-    assert_eq!(scene.instances[0].first, 2);
+    assert_eq!(scene.instances[0].copies[0].0, 2);
     let placed: usize = scene.instances.iter().map(|g| g.placed_triangles()).sum();
     assert_eq!(placed + 2, scene.triangles.len());
-    // Copy k of a group is its placement of the mesh, at first + k * len.
+    // Each copy is its placement of the mesh, from its first primitive on.
     let g = &scene.instances[1];
-    let k = 3;
-    let copy = &scene.triangles[g.first as usize + k * g.mesh.len()..][..g.mesh.len()];
+    let (first, placement) = g.copies[3];
+    assert_eq!(first as usize, 2 + scene.instances[0].placed_triangles() + 3 * g.mesh.len());
+    let copy = &scene.triangles[first as usize..][..g.mesh.len()];
     for (t, object) in copy.iter().zip(&g.mesh) {
-        let mut p = object.map(|v| g.placements[k].world().transform_point3(v));
-        if g.placements[k].mirrored() {
+        let mut p = object.map(|v| placement.world().transform_point3(v));
+        if placement.mirrored() {
             p.swap(1, 2);
         }
         assert_eq!(t.p, p);

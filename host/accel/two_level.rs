@@ -82,10 +82,11 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
     let mut placed = vec![false; scene.triangles.len()];
     let mut meshes: Vec<Mesh> = Vec::with_capacity(scene.instances.len() + 1);
     for g in &scene.instances {
-        let first = g.first as usize;
-        let end = first + g.placed_triangles();
-        anyhow::ensure!(end <= placed.len(), "an instance group names triangles {first}..{end} of {}", placed.len());
-        placed[first..end].iter_mut().for_each(|p| *p = true);
+        for &(first, _) in &g.copies {
+            let (first, end) = (first as usize, first as usize + g.mesh.len());
+            anyhow::ensure!(end <= placed.len(), "an instance group names triangles {first}..{end} of {}", placed.len());
+            placed[first..end].iter_mut().for_each(|p| *p = true);
+        }
         meshes.push(Mesh { positions: g.mesh.clone(), prims: (0..g.mesh.len() as u32).collect() });
     }
     let rest: Vec<u32> = (0..scene.triangles.len() as u32).filter(|&i| !placed[i as usize]).collect();
@@ -111,8 +112,8 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
     // each, its mesh, object-to-world transform, first primitive id and mirror flag.
     let mut placements: Vec<(usize, Mat4, u32, bool)> = Vec::new();
     for (mesh, g) in scene.instances.iter().enumerate() {
-        for (k, p) in g.placements.iter().enumerate() {
-            placements.push((mesh, p.world(), (g.first as usize + k * g.mesh.len()) as u32, p.mirrored()));
+        for &(first, p) in &g.copies {
+            placements.push((mesh, p.world(), first, p.mirrored()));
         }
     }
     if has_rest {

@@ -11,46 +11,82 @@ use glam::{Mat3, Mat4, Vec3, Vec4};
 use super::assemble::push_triangle;
 use super::{Scene, Triangle};
 
-/// Copies of one mesh as a loader expanded them into [`Scene::triangles`]: copy `k`'s
-/// triangles are primitives `first + k * mesh.len()` onwards, in the mesh's order, each
+/// Copies of one mesh as a loader expanded them into [`Scene::triangles`]: each copy's
+/// triangles are contiguous from its first primitive id, in the mesh's order, each
 /// [`Placement::place`]d. What a two-level BVH needs to keep one copy.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InstanceGroup {
     /// The mesh's vertex positions in object space, in the copies' triangle order (a
     /// mirrored copy has its second and third vertices swapped, [`Placement::place`]).
     pub mesh: Vec<[Vec3; 3]>,
-    /// Primitive id of the first copy's first triangle.
-    pub first: u32,
-    pub placements: Vec<Placement>,
+    /// Each copy: the primitive id of its first triangle, and its placement.
+    pub copies: Vec<(u32, Placement)>,
 }
 
 impl InstanceGroup {
     /// Triangles the copies hold in the scene.
     pub fn placed_triangles(&self) -> usize {
-        self.mesh.len() * self.placements.len()
+        self.mesh.len() * self.copies.len()
+    }
+}
+
+/// Which of a mesh's triangles each copy kept (a transform can make a triangle degenerate in
+/// one copy and not in another), gathered copy by copy while a loader expands them: an
+/// [`InstanceGroup`] where every copy kept the same ones, none otherwise (the copies are then
+/// only expanded).
+#[derive(Debug, Clone, Default)]
+pub struct CopiesMade {
+    mesh: Vec<[Vec3; 3]>,
+    kept: Option<Vec<bool>>,
+    copies: Vec<(u32, Placement)>,
+    added: usize,
+    alike: bool,
+}
+
+impl CopiesMade {
+    /// `mesh`: the object-space positions of every triangle a copy is made of, in order.
+    pub fn new(mesh: Vec<[Vec3; 3]>) -> Self {
+        Self { mesh, kept: None, copies: Vec::new(), added: 0, alike: true }
+    }
+
+    /// A copy placed by `world` from primitive `first` on, with `kept` telling which of the
+    /// mesh's triangles it kept. A transform that [`Placement`] refuses (singular) leaves the
+    /// copies expanded.
+    pub fn add(&mut self, first: usize, world: Mat4, kept: Vec<bool>) {
+        self.added += 1;
+        match (u32::try_from(first), Placement::new(world)) {
+            (Ok(first), Ok(p)) => self.copies.push((first, p)),
+            _ => self.alike = false,
+        }
+        match &self.kept {
+            None => self.kept = Some(kept),
+            Some(first_copy) => self.alike &= *first_copy == kept,
+        }
+    }
+
+    /// Copies added so far.
+    pub fn count(&self) -> usize {
+        self.added
+    }
+
+    /// The group, if the copies are alike and keep a triangle.
+    pub fn group(self) -> Option<InstanceGroup> {
+        let kept = self.kept.filter(|_| self.alike)?;
+        let mesh: Vec<[Vec3; 3]> = self.mesh.iter().zip(&kept).filter(|(_, &keep)| keep).map(|(t, _)| *t).collect();
+        (!mesh.is_empty()).then_some(InstanceGroup { mesh, copies: self.copies })
     }
 }
 
 /// Adds one copy of `mesh` per placement to the scene's triangles and, where every copy kept
-/// the same triangles (a transform can make a triangle degenerate in one copy and not in
-/// another; the copies are then only expanded), records them as an [`InstanceGroup`].
+/// the same triangles, records them as an [`InstanceGroup`] ([`CopiesMade`]).
 pub fn place_copies(scene: &mut Scene, mesh: &[Triangle], placements: Vec<Placement>) {
-    let first = scene.triangles.len();
-    let mut kept: Option<Vec<bool>> = None;
-    let mut alike = true;
+    let mut made = CopiesMade::new(mesh.iter().map(|t| t.p).collect());
     for p in &placements {
-        let copy: Vec<bool> = mesh.iter().map(|t| push_triangle(scene, p.place(t))).collect();
-        match &kept {
-            None => kept = Some(copy),
-            Some(first_copy) => alike &= *first_copy == copy,
-        }
+        let first = scene.triangles.len();
+        let kept = mesh.iter().map(|t| push_triangle(scene, p.place(t))).collect();
+        made.add(first, p.world, kept);
     }
-    let Some(kept) = kept.filter(|_| alike) else { return };
-    let mesh: Vec<[Vec3; 3]> = mesh.iter().zip(&kept).filter(|(_, &keep)| keep).map(|(t, _)| t.p).collect();
-    let Ok(first) = u32::try_from(first) else { return };
-    if !mesh.is_empty() {
-        scene.instances.push(InstanceGroup { mesh, first, placements });
-    }
+    scene.instances.extend(made.group());
 }
 
 /// An object-to-world transform and what placing a triangle by it needs.
@@ -90,7 +126,7 @@ impl Placement {
 
     /// Fails on a transform that is not finite or that flattens the mesh (determinant 0, or so
     /// small that the normals' inverse overflows).
-    fn new(world: Mat4) -> Result<Self, String> {
+    pub fn new(world: Mat4) -> Result<Self, String> {
         if !world.is_finite() {
             return Err("the transform is not finite".into());
         }

@@ -54,8 +54,18 @@ pub fn check_placed_triangles(placed: &[super::nodes::Placed], document: &::gltf
 }
 
 /// Adds every primitive of `mesh`, placed by `world`, to the scene (degenerate triangles
-/// dropped as the other loaders do, `Scene::tangents` kept in step).
-pub fn add_mesh(scene: &mut Scene, mesh: &::gltf::Mesh, world: Mat4, buffers: &[Vec<u8>], materials: &MaterialTable, file: &Path) -> anyhow::Result<()> {
+/// dropped as the other loaders do, `Scene::tangents` kept in step). Returns each of the
+/// mesh's triangles in object space (its file's vertex order) and whether this copy kept it:
+/// what `InstanceGroup`s are made of.
+pub fn add_mesh(
+    scene: &mut Scene,
+    mesh: &::gltf::Mesh,
+    world: Mat4,
+    buffers: &[Vec<u8>],
+    materials: &MaterialTable,
+    file: &Path,
+) -> anyhow::Result<Vec<([Vec3; 3], bool)>> {
+    let mut made = Vec::new();
     for prim in mesh.primitives() {
         let loc = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
         let material = materials.index(prim.material().index());
@@ -87,17 +97,20 @@ pub fn add_mesh(scene: &mut Scene, mesh: &::gltf::Mesh, world: Mat4, buffers: &[
                 .collect()
         });
         for mut c in corners {
+            let object = c.map(|i| Vec3::from(v.positions[i]));
             if mirrored {
                 c.swap(1, 2);
             }
             let t =
                 Triangle { p: c.map(|i| positions[i]), n: normals.as_ref().map(|n| c.map(|i| n[i])), uv: uvs.as_ref().map(|uv| c.map(|i| uv[i])), material };
-            if push_triangle(scene, t) {
+            let kept = push_triangle(scene, t);
+            if kept {
                 scene.tangents.push(tangents.as_ref().map_or([Vec4::ZERO; 3], |ts| c.map(|i| ts[i])));
             }
+            made.push((object, kept));
         }
     }
-    Ok(())
+    Ok(made)
 }
 
 /// A primitive's vertex attributes, each as long as `positions`.

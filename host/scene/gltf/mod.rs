@@ -10,8 +10,8 @@
 //! What is read: the default scene (`scene`, else `scenes[0]`, else every root node), its node
 //! hierarchy ([`nodes`]), every mesh primitive placed by it ([`mesh`]; a mesh used by several
 //! nodes, or drawn many times by one node through `EXT_mesh_gpu_instancing` ([`instancing`]), is
-//! expanded once per placement: a two-level BVH would instead keep one bottom-level tree per
-//! mesh and a top level of instances, transforming rays into each instance's space), materials
+//! expanded once per placement, and its copies recorded as an `InstanceGroup`, whose two-level
+//! BVH keeps one tree of the mesh and a top level of instances, `accel::two_level`), materials
 //! ([`materials`]), `KHR_lights_punctual` lights ([`lights`]) and perspective cameras
 //! ([`cameras`]). Skins, morph targets and animations are not read: the static pose is used.
 //! Which extensions are supported: [`extensions`].
@@ -33,6 +33,7 @@ mod nodes;
 use std::path::Path;
 
 use super::assemble::{finish_scene, light_if_unlit, DEFAULT_AMBIENT};
+use super::instance::CopiesMade;
 use super::Scene;
 use crate::error::InputError;
 use crate::scene::input_file::{read_bounded, MAX_GEOMETRY_BYTES};
@@ -70,10 +71,15 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
     let placed = nodes::walk(&document, path)?;
     mesh::check_placed_triangles(&placed, &document, path)?;
     let mut cameras = Vec::new();
+    // Each mesh's copies, for the two-level BVH (scene::instance): meshes placed more than once.
+    let mut copies: std::collections::BTreeMap<usize, CopiesMade> = std::collections::BTreeMap::new();
     for p in &placed {
         if let Some(mesh) = p.node.mesh() {
             for world in instancing::worlds(&p.node, &document, &buffers, p.world, path)? {
-                mesh::add_mesh(&mut scene, &mesh, world, &buffers, &table, path)?;
+                let first = scene.triangles.len();
+                let made = mesh::add_mesh(&mut scene, &mesh, world, &buffers, &table, path)?;
+                let entry = copies.entry(mesh.index()).or_insert_with(|| CopiesMade::new(made.iter().map(|m| m.0).collect()));
+                entry.add(first, world, made.into_iter().map(|m| m.1).collect());
             }
         }
         if let Some(camera) = p.node.camera() {
@@ -83,6 +89,7 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
             scene.lights.push(lights::light(&light, p.world));
         }
     }
+    scene.instances.extend(copies.into_values().filter(|c| c.count() > 1).filter_map(CopiesMade::group));
     if !scene.materials.iter().any(|m| m.normal_texture.is_some()) {
         // Scene::tangents is empty unless a normal map needs it.
         scene.tangents.clear();

@@ -1,0 +1,84 @@
+#!/usr/bin/env python3
+"""The cost of the second level (issue 44): the 10M-triangle Buddha grid of
+scenes/bench/buddha-grid-10m.yaml as 100 `Instances` of one mesh against the same grid as 100
+`Models` (expanded), rendered by `vkrt render --cache off -v` alternately, ROUNDS rounds: a
+1024x768 Whitted frame and a 320x240 64-spp path frame. Prints a Markdown table of medians:
+load, BVH build, upload, render seconds, the device arrays' MiB (`render -v`) and the process's
+peak resident memory.
+
+    python3 tools/bench-instancing.py [--rounds 3] [--vkrt target/release/vkrt]
+"""
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def scenes(tmp):
+    """The grid as Models (the repository's file, its mesh path made absolute) and as Instances."""
+    src = open(os.path.join(ROOT, "scenes/bench/buddha-grid-10m.yaml")).read()
+    mesh = os.path.normpath(os.path.join(ROOT, "scenes/bench", re.search(r"Mesh: (\S+)", src).group(1)))
+    if not os.path.exists(mesh):
+        sys.exit(f"bench-instancing: needs {mesh} (../shared)")
+    shifts = re.findall(r"Translation: \[([^\]]*)\]", src)
+    head = src[: src.index("Models:")]
+    expanded = head + "Models:\n" + "".join(f"  - Mesh: {mesh}\n    Translation: [{t}]\n    Material: stone\n" for t in shifts)
+    instanced = head + f"Instances:\n  - Mesh: {mesh}\n    Material: stone\n    Transforms:\n" + "".join(f"      - Translation: [{t}]\n" for t in shifts)
+    paths = {}
+    for name, text in [("expanded", expanded), ("instanced", instanced)]:
+        paths[name] = os.path.join(tmp, f"{name}.yaml")
+        open(paths[name], "w").write(text)
+    return paths
+
+
+def run(vkrt, scene, out, extra):
+    cmd = ["/usr/bin/time", "-f", "maxrss %M", vkrt, "render", scene, "-o", out, "--cache", "off", "-v"] + extra
+    text = subprocess.run(cmd, capture_output=True, text=True, check=True).stderr
+    num = lambda pattern: float(re.search(pattern, text).group(1))
+    return {
+        "load": num(r"load ([\d.]+) s"),
+        "build": num(r"BVH build ([\d.]+) s"),
+        "upload": num(r"upload ([\d.]+) s"),
+        "render": num(r"rendered .* in ([\d.]+) s"),
+        "bvh_mib": num(r"device arrays: BVH ([\d.]+) MiB"),
+        "shading_mib": num(r"shading ([\d.]+) MiB"),
+        "rss_gib": num(r"maxrss (\d+)") / 2**20,
+    }
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--vkrt", default=os.path.join(ROOT, "target/release/vkrt"))
+    args = ap.parse_args()
+    frames = {
+        "Whitted 1024x768": ["--width", "1024", "--height", "768"],
+        "path 320x240 64 spp": ["--integrator", "path", "--spp", "64", "--width", "320", "--height", "240"],
+    }
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = scenes(tmp)
+        results = {(f, s): [] for f in frames for s in paths}
+        for r in range(args.rounds):
+            for frame, extra in frames.items():
+                # Alternate which form goes first, so that neither always runs on a warmer machine.
+                order = ["expanded", "instanced"] if r % 2 == 0 else ["instanced", "expanded"]
+                for form in order:
+                    results[(frame, form)].append(run(args.vkrt, paths[form], os.path.join(tmp, f"{form}.pfm"), extra))
+                    print(f"round {r + 1} {frame} {form}: {results[(frame, form)][-1]}", file=sys.stderr)
+    keys = ["load", "build", "upload", "render", "bvh_mib", "shading_mib", "rss_gib"]
+    print(f"| frame | form | {' | '.join(keys)} |")
+    print("|---|---|" + "---|" * len(keys))
+    for frame in frames:
+        med = {form: {k: statistics.median(x[k] for x in results[(frame, form)]) for k in keys} for form in paths}
+        for form in ["expanded", "instanced"]:
+            print(f"| {frame} | {form} | " + " | ".join(f"{med[form][k]:.3g}" for k in keys) + " |")
+        print(f"| {frame} | instanced / expanded | " + " | ".join(f"{med['instanced'][k] / med['expanded'][k]:.3f}x" for k in keys) + " |")
+
+
+if __name__ == "__main__":
+    main()
