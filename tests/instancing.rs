@@ -344,3 +344,43 @@ fn turned_copies_render_the_expanded_scene_to_rounding() {
         assert!(close as f64 >= 0.9 * a.pixels.len() as f64, "{name}: {close} of {} pixels alike", a.pixels.len());
     }
 }
+
+/// Mirrors and caustic casters among the copies are found in the world, as in the expanded
+/// scene: instanced flat mirrors (two copies, one turned) and glossy balls.
+#[test]
+fn instanced_mirrors_and_casters_are_found_as_in_the_expanded_scene() {
+    let mut scene = lit(scene_with(&[]));
+    let mirror = vkrt::scene::Material { name: "mirror".into(), diffuse: Vec3::ZERO, specular: Vec3::ONE, illum: 3, ..Default::default() };
+    let glossy = vkrt::scene::Material {
+        name: "glossy".into(),
+        diffuse: Vec3::splat(0.1),
+        specular: Vec3::splat(0.9),
+        shininess: 1000.0,
+        illum: 2,
+        ..Default::default()
+    };
+    scene.materials.extend([mirror, glossy]);
+    let quad = |m: u32| {
+        let p = [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)];
+        vec![Triangle { p: [p[0], p[1], p[2]], n: None, uv: None, material: m }, Triangle { p: [p[0], p[2], p[3]], n: None, uv: None, material: m }]
+    };
+    place_copies(
+        &mut scene,
+        &quad(1),
+        vec![translation(0.0, 1.0, -8.0), Placement::from_trs(Vec3::new(-8.0, 1.0, 0.0), Vec3::new(0.0, 90.0, 0.0), Vec3::ONE).unwrap()],
+    );
+    let ball = icosphere(3).to_triangles(1.0, Vec3::ZERO, 2);
+    place_copies(&mut scene, &ball, vec![translation(3.0, 0.0, 0.0), translation(-3.0, 0.0, 3.0)]);
+    assert_eq!(scene.instances.len(), 2);
+    let mut expanded = scene.clone();
+    expanded.instances.clear();
+    let ctx = common::gpu_context();
+    let (two, one) = (common::upload(&ctx, &scene), common::upload(&ctx, &expanded));
+    assert!(two.bvh.instances.is_some() && one.bvh.instances.is_none());
+    assert_eq!((two.mirror_plane_count, two.caster_count), (one.mirror_plane_count, one.caster_count));
+    assert_eq!((two.mirror_plane_count, two.caster_count), (2, 2), "two mirror planes, two balls");
+    let settings = common::path_settings(48, 36, 64);
+    let (a, b) = (common::render_path_on(&ctx, &two, &settings).image(), common::render_path_on(&ctx, &one, &settings).image());
+    let sum = |img: &vkrt::integrator::Image| img.pixels.iter().map(|p| f64::from(p[0] + p[1] + p[2])).sum::<f64>();
+    assert!((sum(&a) - sum(&b)).abs() <= 0.02 * sum(&b), "{} against {}", sum(&a), sum(&b));
+}

@@ -359,6 +359,7 @@ impl CachedScene {
             triangles: self.array(1)?,
             // Never stored for a two-level BVH (`prepare_scene`).
             instances: &[],
+            world_triangles: self.array(1)?,
             shading: self.array(2)?,
             materials: self.array(3)?,
             lights: self.array(4)?,

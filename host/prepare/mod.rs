@@ -146,6 +146,11 @@ pub struct PreparedScene {
     pub lights: LightTable,
     pub info: SceneInfo,
     pub times: PrepareTimes,
+    /// For a two-level BVH, whose triangles are in their meshes' spaces: the world triangles
+    /// (from `Scene::triangles`) of mirror, glass and glossy materials, among which every
+    /// upload finds the planar mirrors and caustic casters (`mirrors`, `casters`). Empty for a
+    /// one-level BVH, whose own triangles serve.
+    pub specular_triangles: Vec<GpuTriangle>,
 }
 
 /// The arrays of a prepared scene as the device takes them, borrowed from a [`PreparedScene`]
@@ -160,6 +165,9 @@ pub struct SceneArrays<'a> {
     pub triangles: &'a [GpuTriangle],
     /// A two-level BVH's instances (`accel::two_level`); empty for a one-level layout.
     pub instances: &'a [GpuInstance],
+    /// The world triangles the planar mirrors and caustic casters are found among: `triangles`
+    /// for a one-level BVH, `PreparedScene::specular_triangles` for a two-level one.
+    pub world_triangles: &'a [GpuTriangle],
     pub shading: &'a [GpuShading],
     pub materials: &'a [GpuMaterial],
     pub lights: &'a [GpuLight],
@@ -183,6 +191,7 @@ impl PreparedScene {
             push: self.flat.push(),
             triangles: &self.flat.triangles,
             instances: self.flat.nodes.instances(),
+            world_triangles: if self.flat.nodes.instances().is_empty() { &self.flat.triangles } else { &self.specular_triangles },
             shading: &self.buffers.shading,
             materials: &self.buffers.materials,
             lights: &self.buffers.lights,
@@ -207,7 +216,8 @@ impl PreparedScene {
         let lights = LightTable::new(&buffers, info.radius);
         let atlas = TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES);
         times.shading = start.elapsed().as_secs_f64();
-        Ok(Self { flat, buffers, atlas, lights, info, times })
+        let specular_triangles = if flat.nodes.instances().is_empty() { Vec::new() } else { specular_triangles(scene, &buffers.materials) };
+        Ok(Self { flat, buffers, atlas, lights, info, times, specular_triangles })
     }
 }
 
@@ -243,6 +253,21 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
         .with_context(|| format!("flattening the BVH as {}", options.layout.name()))?;
     let t_flat = lap();
     Ok((flat, PrepareTimes { boxes: t_boxes, tree: t_tree - t_boxes, flatten: t_flat - t_tree, shading: 0.0 }))
+}
+
+/// The scene's triangles of mirror, glass and glossy materials, in the world and in scene
+/// order: all that `mirrors::planar_mirrors` and `casters::caustic_casters` may keep.
+fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> Vec<GpuTriangle> {
+    use crate::gpu_abi::constants::{MATERIAL_DIELECTRIC, MATERIAL_MIRROR};
+    let specular = |m: &GpuMaterial| m.flags & (MATERIAL_MIRROR | MATERIAL_DIELECTRIC) != 0 || m.specular.iter().any(|&k| k > 0.0);
+    let keep: Vec<bool> = materials.iter().map(specular).collect();
+    (0..scene.triangles.len() as u32)
+        .filter(|&i| keep.get(scene.triangles[i as usize].material as usize).copied().unwrap_or(false))
+        .map(|i| {
+            let p = scene.triangles[i as usize].p;
+            GpuTriangle { v0: p[0].to_array(), prim: i, v1: p[1].to_array(), _pad0: 0, v2: p[2].to_array(), _pad1: 0 }
+        })
+        .collect()
 }
 
 /// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the
