@@ -4,9 +4,11 @@ scenes/bench/buddha-grid-10m.yaml as 100 `Instances` of one mesh against the sam
 `Models` (expanded), rendered by `vkrt render --cache off -v` alternately, ROUNDS rounds: a
 1024x768 Whitted frame and a 320x240 64-spp path frame. Prints a Markdown table of medians:
 load, BVH build, upload, render seconds, the device arrays' MiB (`render -v`) and the process's
-peak resident memory.
+peak resident memory. With --mitsuba PYTHON (an interpreter with PyPI mitsuba; Debian's
+libllvm19 for llvm_ad_rgb), the anchor in the same rounds: Mitsuba 3 loading the same grid as a
+`shapegroup` with 100 `instance`s and as 100 shapes, then its 320x240 64-spp path frame.
 
-    python3 tools/bench-instancing.py [--rounds 3] [--vkrt target/release/vkrt]
+    python3 tools/bench-instancing.py [--rounds 3] [--vkrt target/release/vkrt] [--mitsuba PYTHON]
 """
 import argparse
 import os
@@ -51,10 +53,48 @@ def run(vkrt, scene, out, extra):
     }
 
 
+def mitsuba_child(form, mesh, out):
+    """Runs in the Mitsuba interpreter: load the grid (`form`) and render it; prints JSON times."""
+    import json
+    import time
+    import mitsuba as mi
+    import numpy as np
+    mi.set_variant("llvm_ad_rgb")
+    src = open(os.path.join(ROOT, "scenes/bench/buddha-grid-10m.yaml")).read()
+    shifts = [[float(v) for v in t.split(",")] for t in re.findall(r"Translation: \[([^\]]*)\]", src)]
+    bsdf = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.6, 0.6, 0.6]}}
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "path"},
+        "sensor": {
+            "type": "perspective", "fov": 45, "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(origin=[20, 30, 95], target=[20, 5, 22], up=[0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": 320, "height": 240},
+        },
+        "sun": {"type": "directional", "direction": [-1, -2, -1.5], "irradiance": {"type": "rgb", "value": [1, 1, 1]}},
+    }
+    if form == "instanced":
+        scene["buddha"] = {"type": "shapegroup", "mesh": {"type": "obj", "filename": mesh, "bsdf": bsdf}}
+        for k, t in enumerate(shifts):
+            scene[f"copy{k}"] = {"type": "instance", "shapegroup": {"type": "ref", "id": "buddha"}, "to_world": mi.ScalarTransform4f().translate(t)}
+    else:
+        for k, t in enumerate(shifts):
+            scene[f"copy{k}"] = {"type": "obj", "filename": mesh, "bsdf": bsdf, "to_world": mi.ScalarTransform4f().translate(t)}
+    t0 = time.perf_counter()
+    loaded = mi.load_dict(scene)
+    t1 = time.perf_counter()
+    image = np.array(mi.render(loaded, spp=64))
+    t2 = time.perf_counter()
+    json.dump({"load": t1 - t0, "render": t2 - t1, "mean": float(image.mean())}, open(out, "w"))
+
+
 def main():
+    if len(sys.argv) == 5 and sys.argv[1] == "--mitsuba-child":
+        return mitsuba_child(*sys.argv[2:])
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--vkrt", default=os.path.join(ROOT, "target/release/vkrt"))
+    ap.add_argument("--mitsuba", metavar="PYTHON", help="an interpreter with PyPI mitsuba: adds its anchor rows")
     args = ap.parse_args()
     frames = {
         "Whitted 1024x768": ["--width", "1024", "--height", "768"],
@@ -63,7 +103,15 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         paths = scenes(tmp)
         results = {(f, s): [] for f in frames for s in paths}
+        mesh = re.search(r"Mesh: (\S+)", open(paths["instanced"]).read()).group(1)
+        anchor = {form: [] for form in paths}
         for r in range(args.rounds):
+            if args.mitsuba:
+                for form in (["expanded", "instanced"] if r % 2 == 0 else ["instanced", "expanded"]):
+                    out = os.path.join(tmp, "mitsuba.json")
+                    subprocess.run([args.mitsuba, os.path.abspath(__file__), "--mitsuba-child", form, mesh, out], check=True)
+                    anchor[form].append(__import__("json").load(open(out)))
+                    print(f"round {r + 1} mitsuba {form}: {anchor[form][-1]}", file=sys.stderr)
             for frame, extra in frames.items():
                 # Alternate which form goes first, so that neither always runs on a warmer machine.
                 order = ["expanded", "instanced"] if r % 2 == 0 else ["instanced", "expanded"]
@@ -78,6 +126,14 @@ def main():
         for form in ["expanded", "instanced"]:
             print(f"| {frame} | {form} | " + " | ".join(f"{med[form][k]:.3g}" for k in keys) + " |")
         print(f"| {frame} | instanced / expanded | " + " | ".join(f"{med['instanced'][k] / med['expanded'][k]:.3f}x" for k in keys) + " |")
+    if args.mitsuba:
+        print("\nMitsuba 3 llvm_ad_rgb, path 320x240 64 spp, medians (load includes its BVH build, render its JIT):\n")
+        print("| form | load | render | load + render |\n|---|---|---|---|")
+        for form in ["expanded", "instanced"]:
+            load = statistics.median(x["load"] for x in anchor[form])
+            render = statistics.median(x["render"] for x in anchor[form])
+            both = statistics.median(x["load"] + x["render"] for x in anchor[form])
+            print(f"| {form} | {load:.3g} | {render:.3g} | {both:.3g} |")
 
 
 if __name__ == "__main__":
