@@ -228,7 +228,7 @@ fn write_yaml_scene(dir: &std::path::Path) -> std::path::PathBuf {
 #[test]
 fn trace_and_bvh_commands_take_instanced_scenes() {
     use vkrt::bvh::BuilderKind;
-    use vkrt::cli::trace::{run, TraceArgs};
+    use vkrt::cli::trace::run;
     use vkrt::output::npy::{read_hits, write_rays};
     let dir = common::scratch_dir("instancing-commands");
     let scene_path = write_yaml_scene(&dir);
@@ -239,18 +239,7 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
     write_rays(&rays_path, &rays).unwrap();
     let trace = |layout: Option<vkrt::accel::LayoutKind>, out: &str| {
         let output = dir.join(out);
-        let args = TraceArgs {
-            scene: scene_path.clone(),
-            rays: rays_path.clone(),
-            output: output.clone(),
-            builder: BuilderKind::Reinsertion,
-            layout,
-            no_triangle_list: false,
-            any_hit: false,
-            order: vkrt::query::ray_order::RayOrder::Auto,
-            device: vkrt::cli::DeviceArgs { device: None },
-        };
-        let report = run(&args).unwrap();
+        let report = run(&common::trace_args(&scene_path, &rays_path, &output, layout)).unwrap();
         (report, read_hits(&output).unwrap())
     };
     let (two, two_hits) = trace(None, "two-level.npy");

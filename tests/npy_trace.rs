@@ -6,7 +6,7 @@ mod common;
 use vkrt::accel::{leaf, LayoutKind};
 use vkrt::bvh::BuilderKind;
 use vkrt::cli::bvh::{format_rows, BvhArgs, Format};
-use vkrt::cli::trace::{run, TraceArgs};
+use vkrt::cli::trace::run;
 use vkrt::gpu_abi::constants::PRIM_NONE;
 use vkrt::gpu_abi::GpuRay;
 use vkrt::output::npy::{parse_header, read_hits, write_rays, RayReader};
@@ -114,18 +114,7 @@ fn trace_command_matches_brute_force_for_every_layout() {
     for layout in LayoutKind::ALL.into_iter().map(Some).chain([None]) {
         let name = layout.map_or("default", |l| l.name());
         let out = dir.join(format!("hits-{name}.npy"));
-        let args = TraceArgs {
-            scene: scene_path.clone(),
-            rays: rays_path.clone(),
-            output: out.clone(),
-            builder: BuilderKind::Reinsertion,
-            layout,
-            no_triangle_list: false,
-            any_hit: false,
-            order: vkrt::query::ray_order::RayOrder::Auto,
-            device: vkrt::cli::DeviceArgs { device: None },
-        };
-        let report = run(&args).unwrap();
+        let report = run(&common::trace_args(&scene_path, &rays_path, &out, layout)).unwrap();
         assert_eq!(report.rays, all.len() as u64);
         assert!(report.nodes_visited > 0);
         let hits = read_hits(&out).unwrap();

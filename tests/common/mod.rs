@@ -181,3 +181,25 @@ pub fn cornell_reference() -> vkrt::integrator::Image {
 pub fn reference_relmse_bound(spp: u64) -> f64 {
     2.0 * 0.175 / spp as f64 + 1e-4
 }
+
+/// `vkrt trace`'s arguments for a closest-hit run of `rays` through `scene` into `output`, with
+/// the default builder and order and `layout` (None: the command's default).
+#[allow(dead_code)]
+pub fn trace_args(
+    scene: &std::path::Path,
+    rays: &std::path::Path,
+    output: &std::path::Path,
+    layout: Option<vkrt::accel::LayoutKind>,
+) -> vkrt::cli::trace::TraceArgs {
+    vkrt::cli::trace::TraceArgs {
+        scene: scene.to_path_buf(),
+        rays: rays.to_path_buf(),
+        output: output.to_path_buf(),
+        builder: vkrt::bvh::BuilderKind::Reinsertion,
+        layout,
+        no_triangle_list: false,
+        any_hit: false,
+        order: vkrt::query::ray_order::RayOrder::Auto,
+        device: vkrt::cli::DeviceArgs { device: None },
+    }
+}
