@@ -129,7 +129,7 @@ vec3 direct_light(GpuMaterial m, Surface s, vec3 view) {
             // Emitters emit from their front face only.
             if (cos_light <= 0.0 || dot(s.ng, l) <= 0.0) continue;
             // Radiance * area * cos / d^2 is the irradiance of this piece, over pi (scene::Light).
-            e = emission_at(em.prim, b.y, b.z, em.radiance) * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
+            e = emitter_emission(em, b) * (em.area / float(WHITTED_EMITTER_SAMPLES)) * cos_light / (PI * d2);
             // Shadow ray between the two offset points, so neither surface occludes itself.
             vec3 target = offset_ray(q, en, frame.scene_scale);
             span = target - origin;

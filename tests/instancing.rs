@@ -31,9 +31,13 @@ fn translation(x: f32, y: f32, z: f32) -> Placement {
     Placement::from_trs(Vec3::new(x, y, z), Vec3::ZERO, Vec3::ONE).unwrap()
 }
 
-/// Copies turned, scaled (unevenly too) and mirrored, of a sphere and a cube.
+/// Copies turned, scaled (unevenly too) and mirrored, of a sphere (with vertex normals) and a
+/// cube.
 fn turned_scene() -> Scene {
-    let sphere = icosphere(2).to_triangles(1.0, Vec3::ZERO, 0);
+    let mut sphere = icosphere(2).to_triangles(1.0, Vec3::ZERO, 0);
+    for t in &mut sphere {
+        t.n = Some(t.p.map(|p| p.normalize()));
+    }
     let cube = subdivided_cube(3).to_triangles(1.0, Vec3::ZERO, 0);
     let mut rng = Pcg32::new(7);
     let mut spheres = Vec::new();
@@ -321,6 +325,16 @@ fn exact_translations_render_the_expanded_scene_s_bytes() {
     assert!(same as f64 >= 0.95 * p1.pixels.len() as f64, "path: {same} of {} pixels the same", p1.pixels.len());
 }
 
+/// The device holds one copy of each mesh's shading data, not one per copy.
+#[test]
+fn shading_data_is_per_mesh() {
+    let scene = lit(turned_scene());
+    let prepared = vkrt::prepare::PreparedScene::new(&scene, &PrepareOptions::default()).unwrap();
+    let per_mesh: usize = scene.instances.iter().map(|g| g.mesh.len()).sum::<usize>() + 2;
+    assert_eq!(prepared.buffers.shading.len(), per_mesh);
+    assert!(per_mesh * 10 < scene.triangles.len(), "{per_mesh} entries for {} triangles", scene.triangles.len());
+}
+
 #[test]
 fn turned_copies_render_the_expanded_scene_to_rounding() {
     let [(w2, w1), (p2, p1)] = renders(&lit(turned_scene()));
@@ -397,5 +411,36 @@ fn rays_at_the_seam_of_abutting_copies_never_slip_through() {
         let hit = flat.trace(&ray, false);
         assert_ne!(hit.prim, PRIM_NONE, "{ray:?} slipped out through the seam");
         assert!(hit.t <= 1.0 + 1e-5, "{ray:?} left the cubes: hit at t {}", hit.t);
+    }
+}
+
+/// Normal-mapped, textured copies (turned, one mirrored) shade as the expanded copies do: the
+/// tangents and texture coordinates of each mesh entry are turned out by the hit instance.
+#[test]
+fn normal_mapped_copies_shade_as_the_expanded_ones() {
+    use vkrt::scene::{Material, Texture};
+    let mut scene = lit(scene_with(&[]));
+    let normal = Texture::from_rgba("normal", 2, 2, &[[230, 128, 180, 255], [128, 230, 180, 255], [30, 128, 180, 255], [128, 30, 180, 255]]).unwrap();
+    let colour = Texture::from_rgba("colour", 2, 2, &[[250, 40, 40, 255], [40, 250, 40, 255], [40, 40, 250, 255], [250, 250, 40, 255]]).unwrap();
+    scene.textures.extend([normal, colour]);
+    scene.materials.push(Material { name: "mapped".into(), diffuse_texture: Some(1), normal_texture: Some(0), normal_scale: 1.0, ..Material::default() });
+    let mut ball = icosphere(3).to_triangles(4.0, Vec3::ZERO, 1);
+    for t in &mut ball {
+        t.n = Some(t.p.map(|p| p.normalize()));
+        t.uv = Some(t.p.map(|p| glam::Vec2::new(0.5 + p.x.atan2(p.z) / std::f32::consts::TAU, 0.5 + p.y / 8.0)));
+    }
+    let placements = vec![
+        Placement::from_trs(Vec3::new(-5.0, 2.0, 4.0), Vec3::new(0.0, 40.0, 20.0), Vec3::ONE).unwrap(),
+        Placement::from_trs(Vec3::new(5.0, 2.0, 4.0), Vec3::new(10.0, -30.0, 0.0), Vec3::new(-1.0, 1.2, 1.0)).unwrap(),
+    ];
+    place_copies(&mut scene, &ball, placements);
+    vkrt::scene::tangents::fill_missing_tangents(&mut scene);
+    assert_eq!(scene.tangents.len(), scene.triangles.len());
+    let [(w2, w1), (p2, p1)] = renders(&scene);
+    for (name, a, b) in [("Whitted", &w2, &w1), ("path", &p2, &p1)] {
+        let sum = |img: &vkrt::integrator::Image| img.pixels.iter().map(|p| f64::from(p[0] + p[1] + p[2])).sum::<f64>();
+        assert!(sum(b) > 0.0 && (sum(a) - sum(b)).abs() <= 0.01 * sum(b), "{name}: {} against {}", sum(a), sum(b));
+        let close = a.pixels.iter().zip(&b.pixels).filter(|(x, y)| (0..3).all(|k| (x[k] - y[k]).abs() <= 0.02 * (0.05 + y[k].abs()))).count();
+        assert!(close as f64 >= 0.95 * a.pixels.len() as f64, "{name}: {close} of {} pixels alike", a.pixels.len());
     }
 }

@@ -174,7 +174,7 @@ pub fn flatten_with_list(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind, liste
 }
 
 fn gpu_triangle(t: &Triangle, prim: u32) -> GpuTriangle {
-    GpuTriangle { v0: t.p[0].to_array(), prim, v1: t.p[1].to_array(), _pad0: 0, v2: t.p[2].to_array(), _pad1: 0 }
+    GpuTriangle { v0: t.p[0].to_array(), prim, v1: t.p[1].to_array(), shading: 0, v2: t.p[2].to_array(), _pad1: 0 }
 }
 
 /// The triangles in `prim_indices` order, so a leaf's `first..first + count` indexes them.

@@ -103,7 +103,7 @@ mod tests {
 
     #[test]
     fn the_list_keeps_the_closest_hit() {
-        let tri = |z: f32, prim: u32| GpuTriangle { v0: [-1.0, -1.0, z], prim, v1: [1.0, -1.0, z], _pad0: 0, v2: [0.0, 1.0, z], _pad1: 0 };
+        let tri = |z: f32, prim: u32| GpuTriangle { v0: [-1.0, -1.0, z], prim, v1: [1.0, -1.0, z], shading: 0, v2: [0.0, 1.0, z], _pad1: 0 };
         let list = [tri(3.0, 7), tri(2.0, 8), tri(4.0, 9)];
         let ray = GpuRay { origin: [0.0, 0.0, 0.0], tmin: 0.0, direction: [0.0, 0.0, 1.0], tmax: f32::INFINITY };
         let hit = trace(&list, &ray, 0);

@@ -28,6 +28,7 @@ use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::{INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
 use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuRay, GpuTriangle};
+use crate::scene::instance::Placement;
 use crate::scene::Scene;
 
 /// The two-level node array: top-level nodes, then every mesh's tree; and the instances the
@@ -68,17 +69,23 @@ impl NodeArray for TwoLevel {
 /// leaf count).
 pub const MAX_INSTANCES: usize = 1 << (32 - LEAF_COUNT_BITS);
 
-/// One mesh's triangles in object space, with their primitive ids (mesh-local for an
-/// instanced mesh, the scene's for the rest).
-struct Mesh {
-    positions: Vec<[Vec3; 3]>,
-    prims: Vec<u32>,
+/// One mesh of a two-level BVH: its triangles in object space, their primitive ids relative
+/// to an instance's `prim_base` (mesh-local for an instanced mesh, the scene's own for the
+/// rest), and where its shading entries come from: for each triangle the primitive of the
+/// scene whose shading data (normals, texture coordinates, tangents, material) it takes, placed
+/// by `placement` (a group's first copy; None for the rest, which is in the world already).
+/// Meshes come in [`meshes`]' order, which is the order of their blocks of shading data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<[Vec3; 3]>,
+    pub prims: Vec<u32>,
+    pub shading_from: Vec<u32>,
+    pub placement: Option<Placement>,
 }
 
-/// Builds the two-level BVH of a scene with instances: `builder` builds every mesh's tree and
-/// the top-level tree (one instance per leaf, so that a leaf names its instance). Returns the
-/// node array and the bottom levels' triangles in leaf order, object space.
-pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyhow::Result<(TwoLevel, Vec<GpuTriangle>)> {
+/// The meshes of a scene's two-level BVH: each instance group's, then the triangles that are
+/// no copy's (if any).
+pub fn meshes(scene: &Scene) -> anyhow::Result<Vec<Mesh>> {
     let mut placed = vec![false; scene.triangles.len()];
     let mut meshes: Vec<Mesh> = Vec::with_capacity(scene.instances.len() + 1);
     for g in &scene.instances {
@@ -87,13 +94,32 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
             anyhow::ensure!(end <= placed.len(), "an instance group names triangles {first}..{end} of {}", placed.len());
             placed[first..end].iter_mut().for_each(|p| *p = true);
         }
-        meshes.push(Mesh { positions: g.mesh.clone(), prims: (0..g.mesh.len() as u32).collect() });
+        let &(first, placement) = g.copies.first().ok_or_else(|| anyhow::anyhow!("an instance group without copies"))?;
+        meshes.push(Mesh {
+            positions: g.mesh.clone(),
+            prims: (0..g.mesh.len() as u32).collect(),
+            shading_from: (first..first + g.mesh.len() as u32).collect(),
+            placement: Some(placement),
+        });
     }
     let rest: Vec<u32> = (0..scene.triangles.len() as u32).filter(|&i| !placed[i as usize]).collect();
-    let has_rest = !rest.is_empty();
-    if has_rest {
-        meshes.push(Mesh { positions: rest.iter().map(|&i| scene.triangles[i as usize].p).collect(), prims: rest });
+    if !rest.is_empty() {
+        meshes.push(Mesh {
+            positions: rest.iter().map(|&i| scene.triangles[i as usize].p).collect(),
+            shading_from: rest.clone(),
+            prims: rest,
+            placement: None,
+        });
     }
+    Ok(meshes)
+}
+
+/// Builds the two-level BVH of a scene with instances: `builder` builds every mesh's tree and
+/// the top-level tree (one instance per leaf, so that a leaf names its instance). Returns the
+/// node array and the bottom levels' triangles in leaf order, object space.
+pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyhow::Result<(TwoLevel, Vec<GpuTriangle>)> {
+    let meshes = meshes(scene)?;
+    let has_rest = meshes.last().is_some_and(|m| m.placement.is_none());
     let triangle_total: usize = meshes.iter().map(|m| m.positions.len()).sum();
     anyhow::ensure!(triangle_total <= MAX_FLAT_TRIANGLES, "the meshes have {triangle_total} triangles; the flat layouts address at most {MAX_FLAT_TRIANGLES}");
 
@@ -135,8 +161,11 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
 
     // Every mesh's tree after it, its leaves' triangles after the meshes before it.
     let mut roots = Vec::with_capacity(meshes.len());
+    let mut shading_bases = Vec::with_capacity(meshes.len());
     let mut triangles = Vec::with_capacity(triangle_total);
     for (m, tree) in meshes.iter().zip(&trees) {
+        // The meshes' shading data is in the same order, a block each.
+        shading_bases.push(triangles.len() as u32);
         let base = u32::try_from(nodes.len()).map_err(|_| anyhow::anyhow!("the two-level BVH has more than 2^32 nodes"))?;
         roots.push(base);
         let tri_base = triangles.len() as u32;
@@ -148,7 +177,7 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
         }));
         triangles.extend(tree.prim_indices.iter().map(|&i| {
             let p = m.positions[i as usize];
-            GpuTriangle { v0: p[0].to_array(), prim: m.prims[i as usize], v1: p[1].to_array(), _pad0: 0, v2: p[2].to_array(), _pad1: 0 }
+            GpuTriangle { v0: p[0].to_array(), prim: m.prims[i as usize], v1: p[1].to_array(), shading: i, v2: p[2].to_array(), _pad1: 0 }
         }));
     }
     let instances = placements
@@ -161,7 +190,7 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
                 root: roots[mesh],
                 prim_base,
                 flags: if mirrored { INSTANCE_MIRRORED } else { 0 },
-                _pad0: 0,
+                shading_base: shading_bases[mesh],
             }
         })
         .collect();

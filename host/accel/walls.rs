@@ -79,7 +79,7 @@ mod tests {
     use super::*;
 
     fn tri(v0: [f32; 3], v1: [f32; 3], v2: [f32; 3]) -> GpuTriangle {
-        GpuTriangle { v0, prim: 0, v1, _pad0: 0, v2, _pad1: 0 }
+        GpuTriangle { v0, prim: 0, v1, shading: 0, v2, _pad1: 0 }
     }
 
     fn bounds_of(tris: &[GpuTriangle]) -> Aabb {

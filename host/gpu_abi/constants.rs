@@ -105,6 +105,8 @@ shared_constants! {
     BINDING_INSTANCES = 44;
     /// `GpuInstance::flags`: the instance's transform mirrors.
     INSTANCE_MIRRORED = 1;
+    /// `GpuEmitter::flags`: the emitter is a mirrored copy's triangle.
+    EMITTER_SWAPPED = 1;
     /// Triangles the triangle list holds at most: each is a test for every ray and an unrolled
     /// copy of the test at every trace call site (pipeline creation time), so only a room's
     /// worth (docs/experiments/triangle-list.md: 44 of Sponza's listed cost 13 %).

@@ -73,10 +73,14 @@ gpu_structs! {
     /// A triangle in leaf order, with what intersection needs and nothing else.
     pub struct GpuTriangle {
         pub v0: [f32; 3],
-        /// Primitive id: the index in `Scene::triangles`.
+        /// Primitive id: the index in `Scene::triangles` (in a two-level BVH, where the
+        /// triangle is one of a mesh's, relative to its instance's `prim_base`).
         pub prim: u32,
         pub v1: [f32; 3],
-        pub _pad0: u32,
+        /// In a two-level BVH: the triangle's entry in its mesh's shading data (relative to its
+        /// instance's `shading_base`). 0 in the one-level layouts, whose shading data is by
+        /// primitive id.
+        pub shading: u32,
         pub v2: [f32; 3],
         pub _pad1: u32,
     }
@@ -97,7 +101,9 @@ gpu_structs! {
         /// `INSTANCE_MIRRORED` where the transform mirrors: the copy's second and third
         /// vertices are swapped, so are the hit's barycentrics.
         pub flags: u32,
-        pub _pad0: u32,
+        /// Where its mesh's shading data starts (BINDING_SHADING, BINDING_UVS,
+        /// BINDING_TANGENTS hold one block per mesh, in object space).
+        pub shading_base: u32,
     }
 }
 

@@ -98,7 +98,9 @@ gpu_structs! {
         pub v1: [f32; 3],
         pub area: f32,
         pub v2: [f32; 3],
-        pub _pad0: u32,
+        /// `EMITTER_SWAPPED`: a mirrored copy's triangle (a two-level BVH's), whose second and
+        /// third vertices are in the other order than its shading entry's.
+        pub flags: u32,
         pub radiance: [f32; 3],
         pub _pad1: u32,
     }

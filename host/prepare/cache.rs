@@ -360,6 +360,7 @@ impl CachedScene {
             // Never stored for a two-level BVH (`prepare_scene`).
             instances: &[],
             world_triangles: self.array(1)?,
+            world_shading: self.array(2)?,
             shading: self.array(2)?,
             materials: self.array(3)?,
             lights: self.array(4)?,

@@ -192,7 +192,7 @@ mod tests {
     }
 
     fn triangle(prim: u32, v: [[f32; 3]; 3]) -> GpuTriangle {
-        GpuTriangle { v0: v[0], prim, v1: v[1], _pad0: 0, v2: v[2], _pad1: 0 }
+        GpuTriangle { v0: v[0], prim, v1: v[1], shading: 0, v2: v[2], _pad1: 0 }
     }
 
     /// An octahedron of radius r around c: every vertex on the sphere (a ball).

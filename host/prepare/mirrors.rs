@@ -157,7 +157,7 @@ mod tests {
     }
 
     fn triangle(prim: u32, z: f32) -> GpuTriangle {
-        GpuTriangle { v0: [0.0, 0.0, z], prim, v1: [1.0, 0.0, z], _pad0: 0, v2: [0.0, 1.0, z], _pad1: 0 }
+        GpuTriangle { v0: [0.0, 0.0, z], prim, v1: [1.0, 0.0, z], shading: 0, v2: [0.0, 1.0, z], _pad1: 0 }
     }
 
     fn shading(material: u32, n: [[f32; 3]; 3]) -> GpuShading {

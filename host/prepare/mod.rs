@@ -8,6 +8,7 @@ pub mod casters;
 pub mod envmap;
 pub mod features;
 pub mod light_table;
+pub mod mesh_shading;
 pub mod mirrors;
 pub mod scene_buffers;
 pub mod texture_atlas;
@@ -146,11 +147,13 @@ pub struct PreparedScene {
     pub lights: LightTable,
     pub info: SceneInfo,
     pub times: PrepareTimes,
-    /// For a two-level BVH, whose triangles are in their meshes' spaces: the world triangles
-    /// (from `Scene::triangles`) of mirror, glass and glossy materials, among which every
+    /// For a two-level BVH, whose triangles and shading data are in their meshes' spaces: the
+    /// world triangles (from `Scene::triangles`) of mirror, glass and glossy materials and
+    /// their world shading entries (each triangle's `prim` indexes them), among which every
     /// upload finds the planar mirrors and caustic casters (`mirrors`, `casters`). Empty for a
-    /// one-level BVH, whose own triangles serve.
+    /// one-level BVH, whose own arrays serve.
     pub specular_triangles: Vec<GpuTriangle>,
+    pub specular_shading: Vec<GpuShading>,
 }
 
 /// The arrays of a prepared scene as the device takes them, borrowed from a [`PreparedScene`]
@@ -165,9 +168,11 @@ pub struct SceneArrays<'a> {
     pub triangles: &'a [GpuTriangle],
     /// A two-level BVH's instances (`accel::two_level`); empty for a one-level layout.
     pub instances: &'a [GpuInstance],
-    /// The world triangles the planar mirrors and caustic casters are found among: `triangles`
-    /// for a one-level BVH, `PreparedScene::specular_triangles` for a two-level one.
+    /// The world triangles the planar mirrors and caustic casters are found among, and the
+    /// shading data their `prim` indexes: `triangles` and `shading` for a one-level BVH,
+    /// `PreparedScene::specular_triangles` and `specular_shading` for a two-level one.
     pub world_triangles: &'a [GpuTriangle],
+    pub world_shading: &'a [GpuShading],
     pub shading: &'a [GpuShading],
     pub materials: &'a [GpuMaterial],
     pub lights: &'a [GpuLight],
@@ -192,6 +197,7 @@ impl PreparedScene {
             triangles: &self.flat.triangles,
             instances: self.flat.nodes.instances(),
             world_triangles: if self.flat.nodes.instances().is_empty() { &self.flat.triangles } else { &self.specular_triangles },
+            world_shading: if self.flat.nodes.instances().is_empty() { &self.buffers.shading } else { &self.specular_shading },
             shading: &self.buffers.shading,
             materials: &self.buffers.materials,
             lights: &self.buffers.lights,
@@ -212,12 +218,18 @@ impl PreparedScene {
         let (flat, mut times) = if walks_two_levels(scene, options.layout) { build_two_level(scene, options)? } else { build_bvh(scene, options)? };
         let start = std::time::Instant::now();
         let info = SceneInfo::of(scene);
-        let buffers = SceneBuffers::new(scene);
+        let mut buffers = SceneBuffers::new(scene);
+        let mut specular = (Vec::new(), Vec::new());
+        if !flat.nodes.instances().is_empty() {
+            // In the world, before the shading data is made per mesh (in object space).
+            specular = specular_triangles(scene, &buffers);
+            mesh_shading::per_mesh(&mut buffers, scene, &accel::two_level::meshes(scene)?);
+        }
         let lights = LightTable::new(&buffers, info.radius);
         let atlas = TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES);
         times.shading = start.elapsed().as_secs_f64();
-        let specular_triangles = if flat.nodes.instances().is_empty() { Vec::new() } else { specular_triangles(scene, &buffers.materials) };
-        Ok(Self { flat, buffers, atlas, lights, info, times, specular_triangles })
+        let (specular_triangles, specular_shading) = specular;
+        Ok(Self { flat, buffers, atlas, lights, info, times, specular_triangles, specular_shading })
     }
 }
 
@@ -256,18 +268,20 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
 }
 
 /// The scene's triangles of mirror, glass and glossy materials, in the world and in scene
-/// order: all that `mirrors::planar_mirrors` and `casters::caustic_casters` may keep.
-fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> Vec<GpuTriangle> {
+/// order, each with its shading entry (the triangle's `prim` indexes the second list): all
+/// that `mirrors::planar_mirrors` and `casters::caustic_casters` may keep.
+fn specular_triangles(scene: &Scene, buffers: &SceneBuffers) -> (Vec<GpuTriangle>, Vec<GpuShading>) {
     use crate::gpu_abi::constants::{MATERIAL_DIELECTRIC, MATERIAL_MIRROR};
     let specular = |m: &GpuMaterial| m.flags & (MATERIAL_MIRROR | MATERIAL_DIELECTRIC) != 0 || m.specular.iter().any(|&k| k > 0.0);
-    let keep: Vec<bool> = materials.iter().map(specular).collect();
-    (0..scene.triangles.len() as u32)
-        .filter(|&i| keep.get(scene.triangles[i as usize].material as usize).copied().unwrap_or(false))
-        .map(|i| {
-            let p = scene.triangles[i as usize].p;
-            GpuTriangle { v0: p[0].to_array(), prim: i, v1: p[1].to_array(), _pad0: 0, v2: p[2].to_array(), _pad1: 0 }
+    let keep: Vec<bool> = buffers.materials.iter().map(specular).collect();
+    (0..scene.triangles.len())
+        .filter(|&i| keep.get(scene.triangles[i].material as usize).copied().unwrap_or(false))
+        .enumerate()
+        .map(|(k, i)| {
+            let p = scene.triangles[i].p;
+            (GpuTriangle { v0: p[0].to_array(), prim: k as u32, v1: p[1].to_array(), shading: 0, v2: p[2].to_array(), _pad1: 0 }, buffers.shading[i])
         })
-        .collect()
+        .unzip()
 }
 
 /// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the

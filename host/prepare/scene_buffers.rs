@@ -99,7 +99,7 @@ impl SceneBuffers {
                     v1: t.p[1].to_array(),
                     area: t.area(),
                     v2: t.p[2].to_array(),
-                    _pad0: 0,
+                    flags: 0,
                     // The factor only, also with an emission texture: the light picker weighs a
                     // triangle by it and the shader multiplies in the texel at the sampled point
                     // (lights.glsl), so light sampling stays unbiased (a dark texture only makes

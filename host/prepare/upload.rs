@@ -180,9 +180,9 @@ impl<'a> GpuScene<'a> {
         use TexelFormat::{R32Uint, Rgba32Uint};
         // Decided at every upload (cheap: one pass over the triangles), so prepared scenes and
         // their cache files do not hold it.
-        let (materials, mirrors) = super::mirrors::planar_mirrors(a.world_triangles, a.shading, a.materials);
+        let (materials, mirrors) = super::mirrors::planar_mirrors(a.world_triangles, a.world_shading, a.materials);
         let (mirrors, planes) = super::mirrors::by_plane(&mirrors);
-        let casters = super::casters::caustic_casters(a.world_triangles, a.shading, &materials, a.emitters, !a.lights.is_empty(), info.radius);
+        let casters = super::casters::caustic_casters(a.world_triangles, a.world_shading, &materials, a.emitters, !a.lights.is_empty(), info.radius);
         Ok(Self {
             bvh: GpuBvh::upload_arrays(ctx, a.layout, a.nodes, a.triangles, a.push)?.with_instances(ctx, a.instances)?,
             list_walls: list_walls(a, info),

@@ -45,7 +45,7 @@ GpuTriangle load_triangle(uint i) {
     uvec4 a = texelFetch(triangle_texels, int(3u * i));
     uvec4 b = texelFetch(triangle_texels, int(3u * i + 1u));
     uvec4 c = texelFetch(triangle_texels, int(3u * i + 2u));
-    return GpuTriangle(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), 0u, uintBitsToFloat(c.xyz), 0u);
+    return GpuTriangle(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), 0u);
 }
 #endif
 

@@ -20,4 +20,12 @@ vec3 emission_at(uint prim, float u, float v, vec3 factor) {
     return e;
 }
 
+// An emitter's radiance at barycentrics b (b.y, b.z those of its second and third vertices) of
+// its world triangle: a mirrored copy's has those two in the other order than its shading
+// entry's (EMITTER_SWAPPED, prepare::mesh_shading).
+vec3 emitter_emission(GpuEmitter em, vec3 b) {
+    bool swapped = (em.flags & EMITTER_SWAPPED) != 0u;
+    return emission_at(em.prim, swapped ? b.z : b.y, swapped ? b.y : b.z, em.radiance);
+}
+
 #endif

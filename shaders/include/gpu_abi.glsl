@@ -43,7 +43,7 @@ struct GpuTriangle {
     vec3 v0;
     uint prim;
     vec3 v1;
-    uint _pad0;
+    uint shading;
     vec3 v2;
     uint _pad1;
 };
@@ -54,7 +54,7 @@ struct GpuInstance {
     uint root;
     uint prim_base;
     uint flags;
-    uint _pad0;
+    uint shading_base;
 };
 
 struct GpuShading {
@@ -123,7 +123,7 @@ struct GpuEmitter {
     vec3 v1;
     float area;
     vec3 v2;
-    uint _pad0;
+    uint flags;
     vec3 radiance;
     uint _pad1;
 };

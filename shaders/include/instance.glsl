@@ -5,7 +5,7 @@
 #include "bvh_bindings.glsl"
 
 // GpuInstance, 112 B: three world-to-object rows, three object-to-world rows, then root,
-// prim_base, flags, pad.
+// prim_base, flags, shading_base.
 #define INSTANCE_TEXELS 7u
 layout(set = 0, binding = BINDING_INSTANCES) uniform utextureBuffer instance_texels;
 
@@ -19,7 +19,7 @@ GpuInstance load_instance(uint i) {
     inst.root = w.x;
     inst.prim_base = w.y;
     inst.flags = w.z;
-    inst._pad0 = 0u;
+    inst.shading_base = w.w;
     return inst;
 }
 
@@ -41,6 +41,21 @@ vec3 transform_point(vec4 rows[3], vec3 p) {
 
 vec3 transform_dir(vec4 rows[3], vec3 d) {
     return vec3(row_dot(rows[0], d, 0.0), row_dot(rows[1], d, 0.0), row_dot(rows[2], d, 0.0));
+}
+
+// A unit vector, or zero where `v` has no direction (glam's normalize_or_zero, which the
+// loaders normalise vertex normals with).
+vec3 normalize_or_zero(vec3 v) {
+    float len = length(v);
+    return (len > 0.0 && !isinf(len)) ? v / len : vec3(0.0);
+}
+
+// An object-space normal in the world: by the inverse transpose of the placement's linear part,
+// the transpose of the world-to-object rows' (as scene::instance::Placement places vertex
+// normals), normalised.
+vec3 normal_to_world(GpuInstance inst, vec3 n) {
+    vec4 r0 = inst.world_to_object[0], r1 = inst.world_to_object[1], r2 = inst.world_to_object[2];
+    return normalize_or_zero(vec3(r0.x * n.x + r1.x * n.y + r2.x * n.z, r0.y * n.x + r1.y * n.y + r2.y * n.z, r0.z * n.x + r1.z * n.y + r2.z * n.z));
 }
 
 #endif

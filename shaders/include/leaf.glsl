@@ -22,17 +22,20 @@ struct Hit {
     uint tris_tested;
     // Index of the hit triangle in leaf order (triangles[]), for fetching its vertices.
     uint slot;
+    // The hit triangle's entry in the shading data (BINDING_SHADING, _UVS, _TANGENTS): its
+    // primitive id, or in a two-level BVH its mesh's entry (GpuTriangle::shading).
+    uint shading;
     // The instance hit in a two-level BVH (TWO_LEVEL builds, traverse_two_level.glsl): the
-    // triangle's vertices are in its object space. 0 otherwise.
+    // triangle's vertices and shading data are in its object space, in the mesh's vertex order,
+    // which a mirroring instance swaps (`mirrored`; u and v are the world order's). 0 otherwise.
     uint instance;
+    bool mirrored;
 };
 
 #ifdef TWO_LEVEL
-// While the two-level walk (traverse_two_level.glsl) is in an instance's mesh: the instance's
-// first primitive id and mirror flag, for the alpha test of the copy's triangles; 0 and false
-// everywhere else (the triangle list's tests, which are in the world).
-uint leaf_prim_base = 0u;
-bool leaf_mirrored = false;
+// While the two-level walk (traverse_two_level.glsl) is in an instance's mesh: where the mesh's
+// shading data starts (GpuInstance::shading_base); 0 everywhere else.
+uint leaf_shading_base = 0u;
 #endif
 
 Hit hit_none() {
@@ -44,8 +47,21 @@ Hit hit_none() {
     hit.nodes_visited = 0u;
     hit.tris_tested = 0u;
     hit.slot = 0u;
+    hit.shading = 0u;
     hit.instance = 0u;
+    hit.mirrored = false;
     return hit;
+}
+
+// A triangle's entry in the shading data: its primitive id, or in an instance's mesh its
+// mesh's entry, whose barycentrics are those of the triangle as the mesh has it (the walk's, in
+// object space).
+uint shading_entry(GpuTriangle tri) {
+#ifdef TWO_LEVEL
+    return leaf_shading_base + tri.shading;
+#else
+    return tri.prim;
+#endif
 }
 
 // Test one triangle (at `slot` of the triangle array): on a hit closer than tmax, shrink tmax,
@@ -57,13 +73,7 @@ bool test_triangle(GpuTriangle tri, uint slot, RayPre r, inout float tmax, inout
     if (!intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) return false;
 #ifdef ALPHA_TEST
     // A see-through texel is no hit at all (alpha.glsl).
-#ifdef TWO_LEVEL
-    // In an instance's mesh the texel is the copy's: its primitive id and, under a mirror,
-    // its own vertex order's barycentrics.
-    if (!alpha_passes(tri.prim + leaf_prim_base, leaf_mirrored ? v : u, leaf_mirrored ? u : v, r)) return false;
-#else
-    if (!alpha_passes(tri.prim, u, v, r)) return false;
-#endif
+    if (!alpha_passes(shading_entry(tri), u, v, r)) return false;
 #endif
     tmax = t;
     hit.t = t;
@@ -71,6 +81,7 @@ bool test_triangle(GpuTriangle tri, uint slot, RayPre r, inout float tmax, inout
     hit.u = u;
     hit.v = v;
     hit.slot = slot;
+    hit.shading = shading_entry(tri);
     return true;
 }
 

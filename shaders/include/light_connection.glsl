@@ -87,7 +87,7 @@ LightVertex light_vertex(inout Sampler smp, inout uint rays) {
     lv.f = onb_from(s.ns);
     lv.wi = to_local(lv.f, -d);
     lv.l = l;
-    lv.beta = emission_at(em.prim, b.y, b.z, em.radiance) * (PI / lv.pa);
+    lv.beta = emitter_emission(em, b) * (PI / lv.pa);
     lv.cos0 = dl.z;
     lv.dist2 = h.t * h.t;
     return lv;

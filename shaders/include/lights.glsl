@@ -88,7 +88,7 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
         if (cos_light <= 0.0 || d2 <= 0.0) return false;
         ls.pa = emitter_area_pdf(em.radiance);
         ls.pdf = ls.pa * d2 / cos_light;
-        ls.li_over_pdf = emission_at(em.prim, b.y, b.z, em.radiance) / ls.pdf;
+        ls.li_over_pdf = emitter_emission(em, b) / ls.pdf;
         // Between the two offset points, so that neither surface shadows itself.
         ls.span = offset_ray(q, en, frame.scene_scale) - origin;
         ls.span_tmax = 1.0;

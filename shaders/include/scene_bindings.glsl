@@ -69,7 +69,7 @@ GpuEmitter load_emitter(uint i) {
     uvec4 c = texelFetch(emitter_texels, int(4u * i + 2u));
     uvec4 d = texelFetch(emitter_texels, int(4u * i + 3u));
     return GpuEmitter(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
-                      uintBitsToFloat(c.xyz), 0u, uintBitsToFloat(d.xyz), 0u);
+                      uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz), 0u);
 }
 
 // The point of emitter `em` at barycentrics b, and its unit normal: the side it emits from.

@@ -22,6 +22,47 @@ struct Surface {
     vec3 view;
 };
 
+// The hit triangle's shading data in the world and in the world triangle's vertex order (that
+// of the hit's barycentrics): a two-level BVH's mesh entry (prepare::mesh_shading) turned out
+// by the hit instance.
+GpuShading shading_at(Hit h) {
+    GpuShading sh = load_shading(h.shading);
+#ifdef TWO_LEVEL
+    GpuInstance inst = load_instance(h.instance);
+    vec3 n1 = normal_to_world(inst, sh.n1);
+    vec3 n2 = normal_to_world(inst, sh.n2);
+    sh.n0 = normal_to_world(inst, sh.n0);
+    sh.n1 = h.mirrored ? n2 : n1;
+    sh.n2 = h.mirrored ? n1 : n2;
+#endif
+    return sh;
+}
+
+// The same for the vertex tangents: turned by the placement's linear part, the bitangent's
+// handedness flipped by a mirror (as the glTF loader places them).
+GpuTangents tangents_at(Hit h) {
+    GpuTangents tg = load_tangents(h.shading);
+#ifdef TWO_LEVEL
+    GpuInstance inst = load_instance(h.instance);
+    float w = h.mirrored ? -1.0 : 1.0;
+    vec4 t0 = vec4(normalize_or_zero(transform_dir(inst.object_to_world, tg.t0.xyz)), w * tg.t0.w);
+    vec4 t1 = vec4(normalize_or_zero(transform_dir(inst.object_to_world, tg.t1.xyz)), w * tg.t1.w);
+    vec4 t2 = vec4(normalize_or_zero(transform_dir(inst.object_to_world, tg.t2.xyz)), w * tg.t2.w);
+    tg.t0 = t0;
+    tg.t1 = h.mirrored ? t2 : t1;
+    tg.t2 = h.mirrored ? t1 : t2;
+#endif
+    return tg;
+}
+
+// Texture coordinates at the hit: a two-level BVH's mesh entry is in the mesh's vertex order.
+vec2 hit_uv(Hit h) {
+#ifdef TWO_LEVEL
+    if (h.mirrored) return uv_at(h.shading, h.v, h.u);
+#endif
+    return uv_at(h.shading, h.u, h.v);
+}
+
 Surface surface_at(Hit h, vec3 dir) {
     GpuTriangle tri = load_triangle(h.slot);
 #ifdef TWO_LEVEL
@@ -36,7 +77,7 @@ Surface surface_at(Hit h, vec3 dir) {
     tri.v1 = mirrored ? v2 : v1;
     tri.v2 = mirrored ? v1 : v2;
 #endif
-    GpuShading sh = load_shading(h.prim);
+    GpuShading sh = shading_at(h);
     Surface s;
     float w = 1.0 - h.u - h.v;
     // The barycentric point is on the triangle's plane to float precision, unlike origin + t*dir,
@@ -80,8 +121,8 @@ vec3 bend_above(vec3 n, vec3 axis) {
 }
 
 vec3 normal_mapped(Hit h, Surface s, GpuMaterial m, vec2 uv) {
-    GpuShading sh = load_shading(h.prim);
-    GpuTangents tg = load_tangents(h.prim);
+    GpuShading sh = shading_at(h);
+    GpuTangents tg = tangents_at(h);
     float w = 1.0 - h.u - h.v;
     vec4 t4 = w * tg.t0 + h.u * tg.t1 + h.v * tg.t2;
     vec3 n = w * sh.n0 + h.u * sh.n1 + h.v * sh.n2;
@@ -117,19 +158,19 @@ GpuMaterial material_at(Hit h, inout Surface s) {
     if (HAS_TEXTURES) {
         bool mr = HAS_METALLIC_ROUGHNESS && (m.flags & MATERIAL_METALLIC_ROUGHNESS) != 0u;
         if (m.diffuse_texture != TEXTURE_NONE) {
-            vec3 c = texture_uv(m.diffuse_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+            vec3 c = texture_uv(m.diffuse_texture, hit_uv(h), true).rgb;
             m.diffuse = mr ? m.diffuse * c : c;
         }
         if (mr && m.metallic_roughness_texture != TEXTURE_NONE) {
-            vec4 c = texture_uv(m.metallic_roughness_texture, uv_at(h.prim, h.u, h.v), false);
+            vec4 c = texture_uv(m.metallic_roughness_texture, hit_uv(h), false);
             m.metallic *= c.b;
             m.roughness *= c.g;
         }
         if (m.emission_texture != TEXTURE_NONE) {
-            m.emission *= texture_uv(m.emission_texture, uv_at(h.prim, h.u, h.v), true).rgb;
+            m.emission *= texture_uv(m.emission_texture, hit_uv(h), true).rgb;
         }
         if (HAS_NORMAL_MAP && (m.flags & MATERIAL_NORMAL_MAP) != 0u) {
-            s.ns = normal_mapped(h, s, m, uv_at(h.prim, h.u, h.v));
+            s.ns = normal_mapped(h, s, m, hit_uv(h));
         }
     }
     return m;

@@ -32,8 +32,7 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             index = resume;
             in_object = false;
             r = world;
-            leaf_prim_base = 0u;
-            leaf_mirrored = false;
+            leaf_shading_base = 0u;
             continue;
         }
         GpuNode node = load_node(index);
@@ -55,22 +54,21 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             index = inst.root;
             prim_base = inst.prim_base;
             mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
-            leaf_prim_base = prim_base;
-            leaf_mirrored = mirrored;
+            leaf_shading_base = inst.shading_base;
             in_object = true;
             continue;
         }
         if (test_leaf(node.leaf, r, tmax, hit, any_hit)) {
             hit.prim += prim_base;
             hit.instance = instance;
+            hit.mirrored = mirrored;
             if (mirrored) {
                 float u = hit.u;
                 hit.u = hit.v;
                 hit.v = u;
             }
             if (any_hit) {
-                leaf_prim_base = 0u;
-                leaf_mirrored = false;
+                leaf_shading_base = 0u;
                 return hit;
             }
         }
