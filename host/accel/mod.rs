@@ -93,9 +93,9 @@ impl FlatBvh {
     pub fn node_count(&self) -> usize {
         self.nodes.count()
     }
-    /// Bytes the node and triangle arrays occupy on the GPU.
+    /// Bytes the node and triangle arrays (and a two-level BVH's instances) occupy on the GPU.
     pub fn bytes(&self) -> usize {
-        self.nodes.bytes().len() + std::mem::size_of_val(self.triangles.as_slice())
+        self.nodes.bytes().len() + std::mem::size_of_val(self.triangles.as_slice()) + std::mem::size_of_val(self.nodes.instances())
     }
     /// The triangle list (empty without one).
     pub fn list(&self) -> &[GpuTriangle] {

@@ -23,7 +23,7 @@ use glam::{Mat4, Vec3};
 use super::intersect::{intersect_box, RayPre};
 use super::leaf::{leaf_count, miss, test_leaf};
 use super::threaded::threaded;
-use super::{LayoutKind, NodeArray, MAX_FLAT_TRIANGLES};
+use super::{FlatBvh, LayoutKind, NodeArray, MAX_FLAT_TRIANGLES};
 use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::{INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
@@ -71,16 +71,27 @@ pub const MAX_INSTANCES: usize = 1 << (32 - LEAF_COUNT_BITS);
 
 /// One mesh of a two-level BVH: its triangles in object space, their primitive ids relative
 /// to an instance's `prim_base` (mesh-local for an instanced mesh, the scene's own for the
-/// rest), and where its shading entries come from: for each triangle the primitive of the
-/// scene whose shading data (normals, texture coordinates, tangents, material) it takes, placed
-/// by `placement` (a group's first copy; None for the rest, which is in the world already).
-/// Meshes come in [`meshes`]' order, which is the order of their blocks of shading data.
+/// rest), and its copies (an instance group's: each copy's first primitive id and placement;
+/// none for the rest, which is in the world already and gets the identity). Meshes come in
+/// [`meshes`]' order, which is the order of their blocks of shading data.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     pub positions: Vec<[Vec3; 3]>,
     pub prims: Vec<u32>,
-    pub shading_from: Vec<u32>,
-    pub placement: Option<Placement>,
+    pub copies: Vec<(u32, Placement)>,
+}
+
+impl Mesh {
+    /// The scene primitive whose shading data (normals, texture coordinates, tangents,
+    /// material) the mesh's triangle `i` takes: its first copy's, or the rest's own.
+    pub fn shading_from(&self, i: usize) -> u32 {
+        self.copies.first().map_or(self.prims[i], |&(first, _)| first + i as u32)
+    }
+
+    /// The placement of the copy whose shading data the mesh takes; None for the rest.
+    pub fn placement(&self) -> Option<Placement> {
+        self.copies.first().map(|&(_, p)| p)
+    }
 }
 
 /// The meshes of a scene's two-level BVH: each instance group's, then the triangles that are
@@ -89,37 +100,25 @@ pub fn meshes(scene: &Scene) -> anyhow::Result<Vec<Mesh>> {
     let mut placed = vec![false; scene.triangles.len()];
     let mut meshes: Vec<Mesh> = Vec::with_capacity(scene.instances.len() + 1);
     for g in &scene.instances {
+        anyhow::ensure!(!g.copies.is_empty(), "an instance group without copies");
         for &(first, _) in &g.copies {
             let (first, end) = (first as usize, first as usize + g.mesh.len());
             anyhow::ensure!(end <= placed.len(), "an instance group names triangles {first}..{end} of {}", placed.len());
             placed[first..end].iter_mut().for_each(|p| *p = true);
         }
-        let &(first, placement) = g.copies.first().ok_or_else(|| anyhow::anyhow!("an instance group without copies"))?;
-        meshes.push(Mesh {
-            positions: g.mesh.clone(),
-            prims: (0..g.mesh.len() as u32).collect(),
-            shading_from: (first..first + g.mesh.len() as u32).collect(),
-            placement: Some(placement),
-        });
+        meshes.push(Mesh { positions: g.mesh.clone(), prims: (0..g.mesh.len() as u32).collect(), copies: g.copies.clone() });
     }
     let rest: Vec<u32> = (0..scene.triangles.len() as u32).filter(|&i| !placed[i as usize]).collect();
     if !rest.is_empty() {
-        meshes.push(Mesh {
-            positions: rest.iter().map(|&i| scene.triangles[i as usize].p).collect(),
-            shading_from: rest.clone(),
-            prims: rest,
-            placement: None,
-        });
+        meshes.push(Mesh { positions: rest.iter().map(|&i| scene.triangles[i as usize].p).collect(), prims: rest, copies: Vec::new() });
     }
     Ok(meshes)
 }
 
-/// Builds the two-level BVH of a scene with instances: `builder` builds every mesh's tree and
+/// Builds the two-level BVH of `meshes` ([`meshes`]): `builder` builds every mesh's tree and
 /// the top-level tree (one instance per leaf, so that a leaf names its instance). Returns the
 /// node array and the bottom levels' triangles in leaf order, object space.
-pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyhow::Result<(TwoLevel, Vec<GpuTriangle>)> {
-    let meshes = meshes(scene)?;
-    let has_rest = meshes.last().is_some_and(|m| m.placement.is_none());
+pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig) -> anyhow::Result<(TwoLevel, Vec<GpuTriangle>)> {
     let triangle_total: usize = meshes.iter().map(|m| m.positions.len()).sum();
     anyhow::ensure!(triangle_total <= MAX_FLAT_TRIANGLES, "the meshes have {triangle_total} triangles; the flat layouts address at most {MAX_FLAT_TRIANGLES}");
 
@@ -134,16 +133,14 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
         })
         .collect();
 
-    // The instances: every placement of every group, then the rest under the identity; for
-    // each, its mesh, object-to-world transform, first primitive id and mirror flag.
+    // The instances: every copy of every mesh, the rest under the identity; for each, its
+    // mesh, object-to-world transform, first primitive id and mirror flag.
     let mut placements: Vec<(usize, Mat4, u32, bool)> = Vec::new();
-    for (mesh, g) in scene.instances.iter().enumerate() {
-        for &(first, p) in &g.copies {
-            placements.push((mesh, p.world(), first, p.mirrored()));
+    for (mesh, m) in meshes.iter().enumerate() {
+        if m.copies.is_empty() {
+            placements.push((mesh, Mat4::IDENTITY, 0, false));
         }
-    }
-    if has_rest {
-        placements.push((meshes.len() - 1, Mat4::IDENTITY, 0, false));
+        placements.extend(m.copies.iter().map(|&(first, p)| (mesh, p.world(), first, p.mirrored())));
     }
     anyhow::ensure!(placements.len() <= MAX_INSTANCES, "{} instances; a top-level leaf names at most {MAX_INSTANCES}", placements.len());
     let world_boxes: Vec<Aabb> = placements.iter().map(|(mesh, world, ..)| world_box(world, &trees[*mesh].nodes[0].bounds)).collect();
@@ -197,22 +194,31 @@ pub fn build(scene: &Scene, builder: BuilderKind, config: &BuildConfig) -> anyho
     Ok((TwoLevel { nodes, top_nodes, instances, meshes: meshes.len(), top_sah }, triangles))
 }
 
+impl TwoLevel {
+    /// As a [`FlatBvh`] over `triangles` (the bottom levels', from [`build`]), without a
+    /// triangle list.
+    pub fn into_flat(self, triangles: Vec<GpuTriangle>) -> FlatBvh {
+        let list_first = triangles.len();
+        FlatBvh { nodes: Box::new(self), triangles, list_first }
+    }
+}
+
 /// An object box's world box: its eight corners transformed, padded by a few ulps of its
 /// largest coordinate, so that a ray the mesh's tree hits in object space (after the rounding
 /// of the ray's transform) is not culled by the top level.
 fn world_box(world: &Mat4, b: &Aabb) -> Aabb {
-    let mut out = Aabb::EMPTY;
-    for k in 0..8 {
-        let corner =
-            Vec3::new(if k & 1 == 0 { b.min.x } else { b.max.x }, if k & 2 == 0 { b.min.y } else { b.max.y }, if k & 4 == 0 { b.min.z } else { b.max.z });
-        out = out.union(&Aabb::from_points(&[world.transform_point3(corner)]));
-    }
+    let corners: [Vec3; 8] = std::array::from_fn(|k| {
+        let pick = |bit: usize, lo: f32, hi: f32| if k & bit == 0 { lo } else { hi };
+        world.transform_point3(Vec3::new(pick(1, b.min.x, b.max.x), pick(2, b.min.y, b.max.y), pick(4, b.min.z, b.max.z)))
+    });
+    let out = Aabb::from_points(&corners);
     let pad = out.min.abs().max(out.max.abs()).max_element() * 8.0 * f32::EPSILON;
     Aabb { min: out.min - Vec3::splat(pad), max: out.max + Vec3::splat(pad) }
 }
 
-/// `object_point` / `object_dir` in traverse_two_level.glsl: one row of the world-to-object
-/// transform, summed left to right with no fused multiply-add, as the shader's `precise`.
+/// `row_dot` in instance.glsl (its `transform_point` and `transform_dir`): one row of the
+/// world-to-object transform, summed left to right with no fused multiply-add, as the
+/// shader's `precise`.
 fn row_dot(row: &[f32; 4], v: Vec3, w: f32) -> f32 {
     ((row[0] * v.x + row[1] * v.y) + row[2] * v.z) + row[3] * w
 }

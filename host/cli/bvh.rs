@@ -5,12 +5,12 @@
 //! `accel::two_level`), and the table a line per such row with each level's counts.
 
 use crate::accel::two_level::{self, LevelCounts};
-use crate::accel::{self, FlatBvh, LayoutKind};
+use crate::accel::{self, LayoutKind};
 use crate::bvh::{self, stats::stats, validate::validate, BuildConfig, BuilderKind};
 use crate::gpu::Context;
 use crate::gpu_abi::{GpuHit, GpuRay};
 use crate::output::heatmap;
-use crate::prepare::GpuBvh;
+use crate::prepare::{walks_two_levels, GpuBvh};
 use crate::query::{rays, RayQuery};
 use crate::scene::{triangle_boxes, Scene};
 use anyhow::{anyhow, Context as _, Result};
@@ -184,7 +184,7 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
                 two_level: None,
             });
         }
-        if !scene.instances.is_empty() && layouts.contains(&LayoutKind::Threaded) {
+        if layouts.contains(&LayoutKind::Threaded) && walks_two_levels(scene, LayoutKind::Threaded) {
             rows.push(two_level_row(ctx, &name, scene, builder, args, [&primary, &shadow, &diffuse])?);
         }
     }
@@ -197,17 +197,15 @@ fn two_level_row(ctx: &Context, name: &str, scene: &Scene, builder: BuilderKind,
     let mut built = None;
     for _ in 0..args.repeat.max(1) {
         let t = Instant::now();
-        built = Some(two_level::build(scene, builder, &BuildConfig::default())?);
+        built = Some(two_level::build(&two_level::meshes(scene)?, builder, &BuildConfig::default())?);
         build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
     }
     let (nodes, triangles) = built.ok_or_else(|| anyhow!("no two-level build"))?;
     let counts = nodes.counts(triangles.len());
-    let list_first = triangles.len();
-    let flat = FlatBvh { nodes: Box::new(nodes), triangles, list_first };
+    let flat = nodes.into_flat(triangles);
     let gpu = GpuBvh::upload(ctx, &flat)?;
     let query = RayQuery::new(ctx, &gpu)?;
     query.warm_up()?;
-    let bytes = flat.bytes() + std::mem::size_of_val(flat.nodes.instances());
     Ok(Row {
         scene: name.to_string(),
         triangles: scene.triangles.len(),
@@ -215,7 +213,7 @@ fn two_level_row(ctx: &Context, name: &str, scene: &Scene, builder: BuilderKind,
         layout: LayoutKind::Threaded,
         build_ms,
         nodes: flat.node_count(),
-        bytes,
+        bytes: flat.bytes(),
         sah: counts.top_sah,
         primary: measure(&query, primary, false)?.0,
         shadow: measure(&query, shadow, true)?.0,

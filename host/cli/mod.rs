@@ -15,9 +15,19 @@ pub mod shard;
 pub mod sky;
 pub mod trace;
 
+use crate::accel::LayoutKind;
 use crate::gpu::{Context, ContextOptions};
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand};
+
+/// The BVH walk a command's report names: the layout, or for a two-level BVH of `instances`
+/// instances (`accel::two_level`: a tree per mesh under a top level) that of its levels.
+pub fn walk_name(layout: LayoutKind, instances: usize) -> String {
+    match instances {
+        0 => layout.name().to_string(),
+        n => format!("two-level {} ({n} instances)", layout.name()),
+    }
+}
 
 /// vkrt: a GPU-agnostic ray and path tracer on Vulkan compute shaders.
 ///

@@ -661,7 +661,8 @@ fn report(
             }
         }
     }
-    if let Ok(a) = prepared.arrays() {
+    let arrays = prepared.arrays().ok();
+    if let Some(a) = &arrays {
         let mib = |bytes: usize| bytes as f64 / f64::from(1 << 20);
         let bvh = a.nodes.len() + std::mem::size_of_val(a.triangles) + std::mem::size_of_val(a.instances);
         let shading = std::mem::size_of_val(a.shading) + std::mem::size_of_val(a.uvs) + std::mem::size_of_val(a.tangents);
@@ -670,20 +671,14 @@ fn report(
             mib(bvh),
             mib(shading)
         );
-    }
-    if let Ok(a) = prepared.arrays().map(|a| (a.textures.len(), std::mem::size_of_val(a.texels))) {
-        if a.0 > 0 {
-            eprintln!("textures: {} ({} MiB of texels)", a.0, a.1 >> 20);
+        if !a.textures.is_empty() {
+            eprintln!("textures: {} ({} MiB of texels)", a.textures.len(), std::mem::size_of_val(a.texels) >> 20);
         }
     }
     let features = if args.all_features { Features::all() } else { gpu.info.features.clone() };
     let how = if args.all_features { "unspecialised, --all-features" } else { "specialised to the scene" };
     let name = integrator.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
-    // accel::two_level: a tree per mesh under a top level over the instances.
-    let walk = match prepared.arrays().map(|a| a.instances.len()) {
-        Ok(n) if n > 0 => format!("two-level {} ({n} instances)", gpu.bvh.layout.name()),
-        _ => gpu.bvh.layout.name().to_string(),
-    };
+    let walk = super::walk_name(gpu.bvh.layout, arrays.as_ref().map_or(0, |a| a.instances.len()));
     eprintln!("shader variant: {name} {walk} ({how}): {}", features.variant_name());
     eprint!("{}", features.report());
     // The list's walls (accel::walls): shadow rays skip them.

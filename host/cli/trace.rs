@@ -8,7 +8,7 @@ use crate::gpu::TexelFormat;
 use crate::gpu_abi::constants::PRIM_NONE;
 use crate::gpu_abi::GpuNode;
 use crate::output::npy::{HitWriter, RayReader};
-use crate::prepare::{build_bvh, build_two_level, GpuBvh, PrepareOptions};
+use crate::prepare::{build_bvh, build_two_level, walks_two_levels, GpuBvh, PrepareOptions};
 use crate::query::{RayOrder, RayQuery};
 use anyhow::{Context as _, Result};
 use clap::Args;
@@ -92,18 +92,15 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let ctx = args.device.context()?;
     // A scene with instances walks its two-level BVH, whose levels are threaded, unless another
     // layout is asked for: that walks the expanded copies.
-    let two_level = !scene.instances.is_empty() && matches!(args.layout, None | Some(LayoutKind::Threaded));
     let layout = match args.layout {
         Some(l) => l,
-        None if two_level => LayoutKind::Threaded,
+        None if !scene.instances.is_empty() => LayoutKind::Threaded,
         None => default_layout(scene.triangles.len(), ctx.info.max_texel_buffer_elements),
     };
+    let two_level = walks_two_levels(&scene, layout);
     let options = PrepareOptions { builder: args.builder, layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
     let (flat, build_times) = if two_level { build_two_level(&scene, &options)? } else { build_bvh(&scene, &options)? };
-    let walk = match flat.nodes.instances().len() {
-        0 => layout.name().to_string(),
-        n => format!("two-level {} ({n} instances)", layout.name()),
-    };
+    let walk = super::walk_name(layout, flat.nodes.instances().len());
     let bvh = GpuBvh::upload(&ctx, &flat)?;
     let mut query = RayQuery::new(&ctx, &bvh)?;
     query.order = args.order;

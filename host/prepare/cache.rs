@@ -352,16 +352,17 @@ impl CachedScene {
         if self.meta.arrays.len() != ARRAYS.len() {
             bail!("{} arrays, not {}", self.meta.arrays.len(), ARRAYS.len());
         }
+        let (triangles, shading) = (self.array(1)?, self.array(2)?);
         Ok(SceneArrays {
             layout: self.meta.layout,
             nodes: self.array(0)?,
             push: self.meta.push,
-            triangles: self.array(1)?,
+            triangles,
             // Never stored for a two-level BVH (`prepare_scene`).
             instances: &[],
-            world_triangles: self.array(1)?,
-            world_shading: self.array(2)?,
-            shading: self.array(2)?,
+            world_triangles: triangles,
+            world_shading: shading,
+            shading,
             materials: self.array(3)?,
             lights: self.array(4)?,
             emitters: self.array(5)?,

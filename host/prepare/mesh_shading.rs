@@ -19,25 +19,21 @@ pub fn per_mesh(buffers: &mut SceneBuffers, scene: &Scene, meshes: &[Mesh]) {
     let mut entry_of = vec![u32::MAX; scene.triangles.len()];
     let mut swapped = vec![false; scene.triangles.len()];
     let (mut shading, mut uvs, mut tangents) = (Vec::new(), Vec::new(), Vec::new());
-    for (m, mesh) in meshes.iter().enumerate() {
+    for mesh in meshes {
         let base = shading.len() as u32;
         // The scene's primitives whose entry this mesh's is: every copy's, or the rest's own.
-        match scene.instances.get(m).filter(|_| mesh.placement.is_some()) {
-            Some(group) => {
-                for &(first, placement) in &group.copies {
-                    for i in 0..mesh.positions.len() as u32 {
-                        entry_of[(first + i) as usize] = base + i;
-                        swapped[(first + i) as usize] = placement.mirrored();
-                    }
-                }
-            }
-            None => {
-                for (k, &prim) in mesh.shading_from.iter().enumerate() {
-                    entry_of[prim as usize] = base + k as u32;
-                }
+        if mesh.copies.is_empty() {
+            for (k, &prim) in mesh.prims.iter().enumerate() {
+                entry_of[prim as usize] = base + k as u32;
             }
         }
-        let (linear, mirrored) = mesh.placement.map_or((Mat3::IDENTITY, false), |p| (Mat3::from_mat4(p.world()), p.mirrored()));
+        for &(first, placement) in &mesh.copies {
+            for i in 0..mesh.positions.len() as u32 {
+                entry_of[(first + i) as usize] = base + i;
+                swapped[(first + i) as usize] = placement.mirrored();
+            }
+        }
+        let (linear, mirrored) = mesh.placement().map_or((Mat3::IDENTITY, false), |p| (Mat3::from_mat4(p.world()), p.mirrored()));
         let to_object_normal = linear.transpose();
         let to_object_tangent = linear.inverse();
         let order = |mut a: [[f32; 3]; 3]| {
@@ -46,8 +42,8 @@ pub fn per_mesh(buffers: &mut SceneBuffers, scene: &Scene, meshes: &[Mesh]) {
             }
             a
         };
-        for &prim in &mesh.shading_from {
-            let p = prim as usize;
+        for i in 0..mesh.positions.len() {
+            let p = mesh.shading_from(i) as usize;
             let s = buffers.shading[p];
             let n = order([s.n0, s.n1, s.n2]).map(|n| (to_object_normal * Vec3::from(n)).normalize_or_zero().to_array());
             shading.push(GpuShading { n0: n[0], n1: n[1], n2: n[2], ..s });

@@ -215,15 +215,23 @@ impl PreparedScene {
     /// layout gets its two-level BVH ([`build_two_level`]), any other scene or layout the
     /// one-level tree over every triangle ([`build_bvh`]).
     pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
-        let (flat, mut times) = if walks_two_levels(scene, options.layout) { build_two_level(scene, options)? } else { build_bvh(scene, options)? };
+        // The two-level BVH's meshes: its trees and its shading data are made from them.
+        let mut meshes = None;
+        let (flat, mut times) = if walks_two_levels(scene, options.layout) {
+            let clock = std::time::Instant::now();
+            let m = meshes.insert(accel::two_level::meshes(scene)?);
+            (two_level_flat(m, options)?, PrepareTimes { tree: clock.elapsed().as_secs_f64(), ..PrepareTimes::default() })
+        } else {
+            build_bvh(scene, options)?
+        };
         let start = std::time::Instant::now();
         let info = SceneInfo::of(scene);
         let mut buffers = SceneBuffers::new(scene);
         let mut specular = (Vec::new(), Vec::new());
-        if !flat.nodes.instances().is_empty() {
+        if let Some(meshes) = &meshes {
             // In the world, before the shading data is made per mesh (in object space).
             specular = specular_triangles(scene, &buffers);
-            mesh_shading::per_mesh(&mut buffers, scene, &accel::two_level::meshes(scene)?);
+            mesh_shading::per_mesh(&mut buffers, scene, meshes);
         }
         let lights = LightTable::new(&buffers, info.radius);
         let atlas = TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES);
@@ -297,8 +305,11 @@ pub fn walks_two_levels(scene: &Scene, layout: LayoutKind) -> bool {
 /// walk for such a scene ([`walks_two_levels`]). The time is all in `tree`.
 pub fn build_two_level(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
     let clock = std::time::Instant::now();
-    let (nodes, triangles) = accel::two_level::build(scene, options.builder, &options.build).context("building the two-level BVH")?;
-    let list_first = triangles.len();
-    let flat = FlatBvh { nodes: Box::new(nodes), triangles, list_first };
+    let flat = two_level_flat(&accel::two_level::meshes(scene)?, options)?;
     Ok((flat, PrepareTimes { tree: clock.elapsed().as_secs_f64(), ..PrepareTimes::default() }))
+}
+
+fn two_level_flat(meshes: &[accel::two_level::Mesh], options: &PrepareOptions) -> Result<FlatBvh> {
+    let (nodes, triangles) = accel::two_level::build(meshes, options.builder, &options.build).context("building the two-level BVH")?;
+    Ok(nodes.into_flat(triangles))
 }

@@ -47,9 +47,9 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             continue;
         }
         if (!in_object) {
-            GpuInstance inst = load_instance(node.leaf >> LEAF_COUNT_BITS);
-            r = ray_pre(transform_point(inst.world_to_object, origin), transform_dir(inst.world_to_object, dir), tmin, tmax0);
             instance = node.leaf >> LEAF_COUNT_BITS;
+            GpuInstance inst = load_instance(instance);
+            r = ray_pre(transform_point(inst.world_to_object, origin), transform_dir(inst.world_to_object, dir), tmin, tmax0);
             resume = node.escape;
             index = inst.root;
             prim_base = inst.prim_base;
