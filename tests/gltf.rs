@@ -75,7 +75,7 @@ fn child_trs_under_parent_matrix_gives_exact_world_positions() {
 }
 
 #[test]
-fn a_mesh_used_by_two_nodes_is_expanded_twice_and_a_mirrored_copy_keeps_its_front_face() {
+fn a_mesh_used_by_two_nodes_is_placed_twice_and_a_mirrored_copy_keeps_its_front_face() {
     let mut doc = Doc::new();
     let mesh = doc.triangles(&TRI, &UP_Z, &[0, 1, 2], None);
     let a = doc.node(json::Node { translation: Some([0.0, 0.0, 5.0]), ..mesh_node(mesh) });
@@ -85,8 +85,10 @@ fn a_mesh_used_by_two_nodes_is_expanded_twice_and_a_mirrored_copy_keeps_its_fron
     doc.write_gltf(&path, Storage::External("instances.bin"));
 
     let scene = load_scene(&path).unwrap();
-    assert_eq!(scene.triangles.len(), 2, "one triangle per node using the mesh");
-    let (first, mirrored) = (scene.triangles[0], scene.triangles[1]);
+    assert!(scene.triangles.is_empty(), "the mesh is kept once, as an instance group");
+    let placed = scene.expanded().unwrap();
+    assert_eq!(placed.triangles.len(), 2, "one triangle per node using the mesh");
+    let (first, mirrored) = (placed.triangles[0], placed.triangles[1]);
     assert!(first.p.iter().all(|p| p.z == 5.0), "first copy: {:?}", first.p);
     let mut xs: Vec<f32> = mirrored.p.iter().map(|p| p.x).collect();
     xs.sort_by(f32::total_cmp);
@@ -97,8 +99,8 @@ fn a_mesh_used_by_two_nodes_is_expanded_twice_and_a_mirrored_copy_keeps_its_fron
     assert!(n.iter().all(|n| n.abs_diff_eq(Vec3::Z, 1e-6)), "mirrored normals {n:?}");
     // The two copies are one instance group: the second mirrored.
     assert_eq!(scene.instances.len(), 1);
-    let copies = &scene.instances[0].copies;
-    assert_eq!(copies.iter().map(|c| (c.0, c.1.mirrored())).collect::<Vec<_>>(), vec![(0, false), (1, true)]);
+    let copies: Vec<_> = scene.instances[0].copies().map(|c| (c.0, c.1.mirrored())).collect();
+    assert_eq!(copies, vec![(0, false), (1, true)]);
     every_copy_is_hit_through_the_two_level_bvh(&scene);
 }
 
@@ -107,11 +109,12 @@ fn a_mesh_used_by_two_nodes_is_expanded_twice_and_a_mirrored_copy_keeps_its_fron
 fn every_copy_is_hit_through_the_two_level_bvh(scene: &vkrt::scene::Scene) {
     let flat = vkrt::prepare::build_two_level(scene, &Default::default()).unwrap().0;
     assert!(!flat.nodes.instances().is_empty());
-    for (prim, t) in scene.triangles.iter().enumerate() {
+    let placed = scene.expanded().unwrap();
+    for (prim, t) in placed.triangles.iter().enumerate() {
         let c = t.centroid();
         let ray = vkrt::gpu_abi::GpuRay { origin: [c.x, c.y, c.z + 20.0], tmin: 0.0, direction: [0.0, 0.0, -1.0], tmax: f32::INFINITY };
         let hit = flat.trace(&ray, false);
-        let expected = vkrt::accel::leaf::brute_force(&scene.triangles, &ray);
+        let expected = vkrt::accel::leaf::brute_force(&placed.triangles, &ray);
         assert_eq!(hit.prim, prim as u32, "{ray:?}");
         assert!(
             (hit.t - expected.t).abs() <= 1e-5 * expected.t && (hit.u - expected.u).abs() < 1e-5 && (hit.v - expected.v).abs() < 1e-5,
@@ -448,19 +451,24 @@ fn tangents_are_kept_per_triangle_and_flip_handedness_when_mirrored() {
     doc.scene(vec![a, b, c]);
     let path = scratch("tangents").join("tangents.glb");
     doc.write_glb(&path);
-    let scene = load_scene(&path).unwrap();
+    let loaded = load_scene(&path).unwrap();
+    // The quad placed twice is an instance group, its tangents kept once in object space.
+    assert_eq!((loaded.triangles.len(), loaded.instances.len()), (2, 1));
+    assert_eq!(loaded.instances[0].tangents.len(), 2);
+    // Placed: the quad placed once first, then the two copies.
+    let scene = loaded.expanded().unwrap();
     assert_eq!(scene.triangles.len(), 6);
     assert_eq!(scene.tangents.len(), scene.triangles.len(), "one tangent triple per triangle");
     assert_eq!(scene.materials[0].normal_texture, Some(0));
     assert_eq!(scene.materials[0].normal_scale, 0.5);
-    for t in &scene.tangents[0..2] {
+    for t in &scene.tangents[2..4] {
         assert!(t.iter().all(|t| t.abs_diff_eq(Vec4::new(1.0, 0.0, 0.0, 1.0), 1e-6)), "{t:?}");
     }
-    for t in &scene.tangents[2..4] {
+    for t in &scene.tangents[4..6] {
         assert!(t.iter().all(|t| t.abs_diff_eq(Vec4::new(-1.0, 0.0, 0.0, -1.0), 1e-6)), "mirrored: {t:?}");
     }
     // Without TANGENT in the file, MikkTSpace (scene::tangents) fills them in: unit, with a sign.
-    assert!(scene.tangents[4..].iter().flatten().all(|t| (t.truncate().length() - 1.0).abs() < 1e-4 && t.w.abs() == 1.0), "no TANGENT: MikkTSpace's");
+    assert!(scene.tangents[..2].iter().flatten().all(|t| (t.truncate().length() - 1.0).abs() < 1e-4 && t.w.abs() == 1.0), "no TANGENT: MikkTSpace's");
 
     // Without a normal map, no tangents at all.
     let mut doc = Doc::new();
@@ -755,18 +763,20 @@ fn million_triangle_strip(doc: &mut Doc) -> json::Index<json::Mesh> {
     doc.mesh(vec![prim])
 }
 
-/// A file that places one large mesh many times is refused with the count before a triangle
-/// is copied: 300 placements of a million-triangle strip (a 4 MB file).
+/// A file that places one large mesh so many times that its triangles, every copy counted,
+/// pass what a primitive id names is refused with the count before anything is read: 4100
+/// placements of a million-triangle strip (a 4 MB file). (Instances are not copied, so fewer
+/// placements load.)
 #[test]
 fn a_file_that_places_too_many_triangles_is_refused_with_the_count() {
     let mut doc = Doc::new();
     let mesh = million_triangle_strip(&mut doc);
-    let nodes: Vec<_> = (0..300).map(|_| doc.node(mesh_node(mesh))).collect();
+    let nodes: Vec<_> = (0..4100).map(|_| doc.node(mesh_node(mesh))).collect();
     doc.scene(nodes);
     let path = scratch("placed_triangles").join("many.gltf");
     doc.write_gltf(&path, Storage::External("many.bin"));
-    let count = 300 * ((1u64 << 20) - 2);
-    assert_fails_naming(&path, "nodes", &format!("places 300 meshes with {count} triangles in all"));
+    let count = 4100 * ((1u64 << 20) - 2);
+    assert_fails_naming(&path, "nodes", &format!("places 4100 meshes with {count} triangles in all"));
 }
 
 /// A node with `EXT_mesh_gpu_instancing` attributes (accessor indices by name).
@@ -812,13 +822,14 @@ fn ext_mesh_gpu_instancing_draws_the_mesh_once_per_instance_as_child_nodes_would
     doc.write_gltf(&dir.join("expanded.gltf"), Storage::External("expanded.bin"));
     let expanded = load_scene(&dir.join("expanded.gltf")).unwrap();
 
-    assert_eq!(instanced.triangles.len(), 3);
-    assert_eq!(expanded.triangles.len(), 3);
     // Both are one instance group of three copies, traced as such.
     for scene in [&instanced, &expanded] {
-        assert_eq!(scene.instances.iter().map(|g| g.copies.len()).collect::<Vec<_>>(), vec![3]);
+        assert_eq!(scene.instances.iter().map(|g| g.placements.len()).collect::<Vec<_>>(), vec![3]);
         every_copy_is_hit_through_the_two_level_bvh(scene);
     }
+    let (instanced, expanded) = (instanced.expanded().unwrap(), expanded.expanded().unwrap());
+    assert_eq!(instanced.triangles.len(), 3);
+    assert_eq!(expanded.triangles.len(), 3);
     for (a, b) in instanced.triangles.iter().zip(&expanded.triangles) {
         for k in 0..3 {
             assert_near("position", a.p[k], b.p[k]);
@@ -863,11 +874,11 @@ fn bad_ext_mesh_gpu_instancing_is_an_error_naming_the_attribute() {
 fn instance_counts_are_in_the_placed_triangle_bound() {
     let mut doc = Doc::new();
     let mesh = million_triangle_strip(&mut doc);
-    let t = doc.vec3(&vec![[0.0; 3]; 300]);
+    let t = doc.vec3(&vec![[0.0; 3]; 4100]);
     let node = doc.node(instancing_node(mesh, serde_json::json!({ "TRANSLATION": t.value() })));
     doc.scene(vec![node]);
     let path = scratch("instanced_triangles").join("many.gltf");
     doc.write_gltf(&path, Storage::External("many.bin"));
-    let count = 300 * ((1u64 << 20) - 2);
-    assert_fails_naming(&path, "nodes", &format!("places 300 meshes with {count} triangles in all"));
+    let count = 4100 * ((1u64 << 20) - 2);
+    assert_fails_naming(&path, "nodes", &format!("places 4100 meshes with {count} triangles in all"));
 }

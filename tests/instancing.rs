@@ -12,7 +12,7 @@ use vkrt::gpu_abi::{GpuHit, GpuRay};
 use vkrt::prepare::{build_two_level, GpuBvh, PrepareOptions};
 use vkrt::query::ray_query::trace_rays;
 use vkrt::rng::Pcg32;
-use vkrt::scene::instance::{place_copies, Placement};
+use vkrt::scene::instance::{add_group, Placement};
 use vkrt::scene::{Scene, Triangle};
 
 /// A ground of two triangles (no instance's: the identity instance) and two groups of copies.
@@ -22,7 +22,7 @@ fn scene_with(groups: &[(Vec<Triangle>, Vec<Placement>)]) -> Scene {
     scene.triangles.push(Triangle { p: [g[0], g[2], g[1]], n: None, uv: None, material: 0 });
     scene.triangles.push(Triangle { p: [g[0], g[3], g[2]], n: None, uv: None, material: 0 });
     for (mesh, placements) in groups {
-        place_copies(&mut scene, mesh, placements.clone());
+        add_group(&mut scene, mesh, placements.clone());
     }
     scene
 }
@@ -91,38 +91,40 @@ fn two_level(scene: &Scene) -> vkrt::accel::FlatBvh {
 }
 
 #[test]
-fn loaders_record_how_copies_were_placed() {
+fn groups_keep_one_mesh_and_number_their_copies_after_the_scene_s_triangles() {
     let scene = turned_scene();
     assert_eq!(scene.instances.len(), 2);
-    assert_eq!(scene.instances[0].copies[0].0, 2);
-    let placed: usize = scene.instances.iter().map(|g| g.placed_triangles()).sum();
-    assert_eq!(placed + 2, scene.triangles.len());
+    assert_eq!(scene.triangles.len(), 2, "only the ground is the scene's own");
+    assert_eq!(scene.instances[0].first, 2);
+    let expanded = scene.expanded().unwrap();
+    assert!(expanded.instances.is_empty());
+    assert_eq!(expanded.triangles.len() as u64, scene.placed_triangles());
     // Each copy is its placement of the mesh, from its first primitive on.
     let g = &scene.instances[1];
-    let (first, placement) = g.copies[3];
-    assert_eq!(first as usize, 2 + scene.instances[0].placed_triangles() + 3 * g.mesh.len());
-    let copy = &scene.triangles[first as usize..][..g.mesh.len()];
-    for (t, object) in copy.iter().zip(&g.mesh) {
-        let mut p = object.map(|v| placement.world().transform_point3(v));
+    let (first, placement) = g.copies().nth(3).unwrap();
+    assert_eq!(u64::from(first), 2 + scene.instances[0].placed_triangles() + 3 * g.mesh.len() as u64);
+    let copy = &expanded.triangles[first as usize..][..g.mesh.len()];
+    for (i, (t, object)) in copy.iter().zip(&g.mesh).enumerate() {
+        let mut p = object.p.map(|v| placement.world().transform_point3(v));
         if placement.mirrored() {
             p.swap(1, 2);
         }
         assert_eq!(t.p, p);
+        assert_eq!(Some(*t), scene.triangle(first + i as u32), "Scene::triangle places the copy's triangle alike");
     }
 }
 
 #[test]
-fn copies_that_lose_different_triangles_are_only_expanded() {
-    // A sliver that a flattening scale makes degenerate in one copy and not in the other.
+fn a_mesh_s_degenerate_triangles_are_dropped_once_per_copy() {
     let mesh = vec![
         Triangle { p: [Vec3::ZERO, Vec3::X, Vec3::Y], n: None, uv: None, material: 0 },
-        Triangle { p: [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1e-15, 0.0)], n: None, uv: None, material: 0 },
+        Triangle { p: [Vec3::ZERO, Vec3::X, Vec3::X * 2.0], n: None, uv: None, material: 0 },
     ];
-    let placements = vec![translation(0.0, 0.0, 0.0), Placement::from_trs(Vec3::ZERO, Vec3::ZERO, Vec3::new(1.0, 1e-20, 1.0)).unwrap()];
     let mut scene = Scene::default();
-    place_copies(&mut scene, &mesh, placements);
-    assert!(scene.instances.is_empty(), "{:?}", scene.instances);
-    assert_eq!(scene.triangles.len() + scene.stats.dropped_degenerate, 4);
+    add_group(&mut scene, &mesh, vec![translation(0.0, 0.0, 0.0), translation(3.0, 0.0, 0.0), translation(6.0, 0.0, 0.0)]);
+    assert_eq!(scene.instances.len(), 1);
+    assert_eq!(scene.instances[0].mesh.len(), 1);
+    assert_eq!((scene.placed_triangles(), scene.stats.dropped_degenerate), (3, 3));
 }
 
 #[test]
@@ -132,8 +134,9 @@ fn exact_translations_hit_as_the_expanded_scene_bit_for_bit() {
     assert_eq!(flat.nodes.instances().len(), 26, "25 copies and the ground");
     // One copy of the cube in memory, not 25.
     assert_eq!(flat.triangles.len(), 192 + 2);
+    let expanded = scene.expanded().unwrap();
     for ray in rays(4000, 1, true) {
-        let expected = brute_force(&scene.triangles, &ray);
+        let expected = brute_force(&expanded.triangles, &ray);
         let got = flat.trace(&ray, false);
         assert_eq!(
             (got.t.to_bits(), got.prim, got.u.to_bits(), got.v.to_bits()),
@@ -148,8 +151,9 @@ fn turned_scaled_and_mirrored_copies_hit_as_the_expanded_scene() {
     let scene = turned_scene();
     let flat = two_level(&scene);
     let (mut hits, mut same) = (0, 0);
+    let expanded = scene.expanded().unwrap();
     for ray in rays(6000, 2, false) {
-        let expected = brute_force(&scene.triangles, &ray);
+        let expected = brute_force(&expanded.triangles, &ray);
         let got = flat.trace(&ray, false);
         // A ray through an edge may take either triangle's side after the transform's rounding;
         // it never misses where the expanded scene is hit.
@@ -171,7 +175,7 @@ fn turned_scaled_and_mirrored_copies_hit_as_the_expanded_scene() {
     assert!(same as f64 >= 0.999 * hits as f64, "{same} of {hits} on the same triangle");
     // Any-hit queries agree on whether anything is in the way.
     for ray in rays(2000, 3, false) {
-        assert_eq!(flat.trace(&ray, true).prim == PRIM_NONE, brute_force(&scene.triangles, &ray).prim == PRIM_NONE, "{ray:?}");
+        assert_eq!(flat.trace(&ray, true).prim == PRIM_NONE, brute_force(&expanded.triangles, &ray).prim == PRIM_NONE, "{ray:?}");
     }
 }
 
@@ -286,8 +290,7 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
 /// instance groups forgotten, walked as one tree).
 fn renders(scene: &Scene) -> [(vkrt::integrator::Image, vkrt::integrator::Image); 2] {
     let ctx = common::gpu_context();
-    let mut expanded = scene.clone();
-    expanded.instances.clear();
+    let expanded = scene.expanded().unwrap().into_owned();
     let settings = vkrt::integrator::RenderSettings { width: 64, height: 48, spp: 1, ..Default::default() };
     let path = common::path_settings(64, 48, 16);
     let mut out = Vec::new();
@@ -332,7 +335,7 @@ fn shading_data_is_per_mesh() {
     let prepared = vkrt::prepare::PreparedScene::new(&scene, &PrepareOptions::default()).unwrap();
     let per_mesh: usize = scene.instances.iter().map(|g| g.mesh.len()).sum::<usize>() + 2;
     assert_eq!(prepared.buffers.shading.len(), per_mesh);
-    assert!(per_mesh * 10 < scene.triangles.len(), "{per_mesh} entries for {} triangles", scene.triangles.len());
+    assert!(per_mesh as u64 * 10 < scene.placed_triangles(), "{per_mesh} entries for {} triangles", scene.placed_triangles());
 }
 
 #[test]
@@ -367,16 +370,15 @@ fn instanced_mirrors_and_casters_are_found_as_in_the_expanded_scene() {
         let p = [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)];
         vec![Triangle { p: [p[0], p[1], p[2]], n: None, uv: None, material: m }, Triangle { p: [p[0], p[2], p[3]], n: None, uv: None, material: m }]
     };
-    place_copies(
+    add_group(
         &mut scene,
         &quad(1),
         vec![translation(0.0, 1.0, -8.0), Placement::from_trs(Vec3::new(-8.0, 1.0, 0.0), Vec3::new(0.0, 90.0, 0.0), Vec3::ONE).unwrap()],
     );
     let ball = icosphere(3).to_triangles(1.0, Vec3::ZERO, 2);
-    place_copies(&mut scene, &ball, vec![translation(3.0, 0.0, 0.0), translation(-3.0, 0.0, 3.0)]);
+    add_group(&mut scene, &ball, vec![translation(3.0, 0.0, 0.0), translation(-3.0, 0.0, 3.0)]);
     assert_eq!(scene.instances.len(), 2);
-    let mut expanded = scene.clone();
-    expanded.instances.clear();
+    let expanded = scene.expanded().unwrap().into_owned();
     let ctx = common::gpu_context();
     let (two, one) = (common::upload(&ctx, &scene), common::upload(&ctx, &expanded));
     assert!(two.bvh.instances.is_some() && one.bvh.instances.is_none());
@@ -398,7 +400,7 @@ fn instanced_mirrors_and_casters_are_found_as_in_the_expanded_scene() {
 fn rays_at_the_seam_of_abutting_copies_never_slip_through() {
     let cube = subdivided_cube(2).to_triangles(1.0, Vec3::ZERO, 0);
     let mut scene = Scene::default();
-    place_copies(&mut scene, &cube, vec![translation(0.0, 0.0, 0.0), translation(2.0, 0.0, 0.0)]);
+    add_group(&mut scene, &cube, vec![translation(0.0, 0.0, 0.0), translation(2.0, 0.0, 0.0)]);
     let flat = two_level(&scene);
     assert_eq!(flat.nodes.instances().len(), 2);
     let mut rng = Pcg32::new(11);
@@ -433,9 +435,9 @@ fn normal_mapped_copies_shade_as_the_expanded_ones() {
         Placement::from_trs(Vec3::new(-5.0, 2.0, 4.0), Vec3::new(0.0, 40.0, 20.0), Vec3::ONE).unwrap(),
         Placement::from_trs(Vec3::new(5.0, 2.0, 4.0), Vec3::new(10.0, -30.0, 0.0), Vec3::new(-1.0, 1.2, 1.0)).unwrap(),
     ];
-    place_copies(&mut scene, &ball, placements);
+    add_group(&mut scene, &ball, placements);
     vkrt::scene::tangents::fill_missing_tangents(&mut scene);
-    assert_eq!(scene.tangents.len(), scene.triangles.len());
+    assert_eq!(scene.instances[0].tangents.len(), ball.len(), "the mesh's tangents, in object space");
     let [(w2, w1), (p2, p1)] = renders(&scene);
     for (name, a, b) in [("Whitted", &w2, &w1), ("path", &p2, &p1)] {
         let sum = |img: &vkrt::integrator::Image| img.pixels.iter().map(|p| f64::from(p[0] + p[1] + p[2])).sum::<f64>();

@@ -809,8 +809,11 @@ Instances:
 
 #[test]
 fn yaml_instances_place_one_copy_per_transform() {
-    let s = load(&yaml_scene("yaml_instances", INSTANCES_YAML));
-    assert!(s.stats.warnings.is_empty(), "{:?}", s.stats.warnings);
+    let loaded = load(&yaml_scene("yaml_instances", INSTANCES_YAML));
+    assert!(loaded.stats.warnings.is_empty(), "{:?}", loaded.stats.warnings);
+    // One mesh and three placements, placed here to look at the copies.
+    assert_eq!((loaded.triangles.len(), loaded.instances.len(), loaded.instances[0].placements.len()), (0, 1, 3));
+    let s = loaded.expanded().unwrap();
     assert_eq!(s.triangles.len(), 3);
     // Scale and translation place exactly as Models' Scale and Translation (GOOD_YAML's test):
     // the mirror's winding flipped back.
@@ -834,7 +837,8 @@ fn yaml_instances_without_a_material_take_the_mtl_s() {
     let yaml = "Instances:\n  - Mesh: box.obj\n    Transforms:\n      - Translation: [0, 0, 0]\n      - Translation: [3, 0, 0]\n";
     let obj = b"mtllib box.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     let path = write_files("yaml_instances_mtl", &[("scene.yaml", yaml.as_bytes()), ("box.obj", obj), ("box.mtl", b"newmtl red\nKd 0.8 0.1 0.1\n")]);
-    let s = load(&path);
+    let loaded = load(&path);
+    let s = loaded.expanded().unwrap();
     assert_eq!(s.triangles.len(), 2);
     // One copy of the MTL's materials for all the mesh's copies.
     assert_eq!(s.materials.iter().filter(|m| m.name == "red").count(), 1);
@@ -870,9 +874,10 @@ fn yaml_bad_instances_name_the_key() {
 }
 
 #[test]
-fn yaml_instances_past_the_bound_are_refused_with_the_count_before_copying() {
-    // 4097 copies of a 66,248-triangle grid (182 x 182 quads) make 271 M triangles, past
-    // 2^28: refused from the count, without the ~40 GB the copies would take.
+fn yaml_instances_past_the_bound_are_refused_with_the_count() {
+    // 65,000 copies of a 66,248-triangle grid (182 x 182 quads) make 4.3 G triangles, more
+    // than a 32-bit primitive id names: refused from the count. (The copies are not made, so
+    // fewer load.)
     let n = 182;
     let mut obj = String::new();
     for y in 0..=n {
@@ -886,10 +891,10 @@ fn yaml_instances_past_the_bound_are_refused_with_the_count_before_copying() {
             obj += &format!("f {v} {} {}\nf {} {} {}\n", v + 1, v + n + 2, v, v + n + 2, v + n + 1);
         }
     }
-    let copies = 4097;
+    let copies = 65_000;
     let yaml = format!("Materials:\n  - Name: m\nInstances:\n  - Mesh: grid.obj\n    Material: m\n    Transforms: [{}{{}}]\n", "{}, ".repeat(copies - 1));
     let path = write_files("yaml_inst_bound", &[("scene.yaml", yaml.as_bytes()), ("grid.obj", obj.as_bytes())]);
     let text = assert_located(&path, "key Instances[0].Transforms");
     let triangles = 2 * n * n;
-    assert!(text.contains(&format!("{copies} copies of a {triangles}-triangle mesh")) && text.contains("at most 268435456"), "{text}");
+    assert!(text.contains(&format!("{copies} copies of a {triangles}-triangle mesh")) && text.contains("at most 4294967295"), "{text}");
 }

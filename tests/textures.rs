@@ -188,14 +188,14 @@ fn see_through_texels_show_what_is_behind_in_every_layout() {
 /// mirrored copy shows them mirrored.
 #[test]
 fn see_through_texels_of_instances_are_the_copy_s() {
-    use vkrt::scene::instance::{place_copies, Placement};
+    use vkrt::scene::instance::{add_group, Placement};
     let green = Material { name: "green".into(), diffuse: Vec3::new(0.0, 1.0, 0.0), ..Material::default() };
     let backdrop = uv_quad(Vec3::new(-4.0, -4.0, -1.0), Vec3::X * 8.0, Vec3::Y * 8.0, Vec2::ZERO, Vec2::ONE, 1).to_vec();
     let quad = uv_quad(Vec3::new(-1.0, -1.0, 0.0), Vec3::X * 2.0, Vec3::Y * 2.0, Vec2::ZERO, Vec2::ONE, 0);
     for mirror in [false, true] {
         let mut scene = albedo_scene(backdrop.clone(), vec![cutout_material(), green.clone()], vec![checker_alpha()]);
         let scale = Vec3::new(if mirror { -1.0 } else { 1.0 }, 1.0, 1.0);
-        place_copies(&mut scene, &quad, vec![Placement::from_trs(Vec3::ZERO, Vec3::ZERO, scale).unwrap()]);
+        add_group(&mut scene, &quad, vec![Placement::from_trs(Vec3::ZERO, Vec3::ZERO, scale).unwrap()]);
         assert_eq!(scene.instances.len(), 1);
         let image = whitted_image(&scene, LayoutKind::Threaded, (W, W), false);
         for j in 0..W {

@@ -13,10 +13,11 @@
 //! stack). Shader: `shaders/include/traverse_two_level.glsl`, in the `_two_level` build of every
 //! tracing shader.
 //!
-//! The scene's triangles that are no instance's (`scene::instance::InstanceGroup`) form one
-//! more mesh under an identity instance: its object ray is the world ray to the bit (each
+//! The scene's own triangles, which are no instance's (`scene::instance::InstanceGroup`), form
+//! one more mesh under an identity instance: its object ray is the world ray to the bit (each
 //! coordinate is 1 x plus zeros), so those triangles are hit at the same t as in the one-level
-//! walk. Primitive ids are the expanded scene's, so hits compare with it directly.
+//! walk. Primitive ids are those of the expanded scene (`Scene::expanded`), so hits compare
+//! with it directly.
 
 use glam::{Mat4, Vec3};
 
@@ -28,7 +29,7 @@ use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::{INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
 use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuRay, GpuTriangle};
-use crate::scene::instance::Placement;
+use crate::scene::instance::{placed_box, Placement};
 use crate::scene::Scene;
 
 /// The two-level node array: top-level nodes, then every mesh's tree; and the instances the
@@ -73,7 +74,8 @@ pub const MAX_INSTANCES: usize = 1 << (32 - LEAF_COUNT_BITS);
 /// to an instance's `prim_base` (mesh-local for an instanced mesh, the scene's own for the
 /// rest), and its copies (an instance group's: each copy's first primitive id and placement;
 /// none for the rest, which is in the world already and gets the identity). Meshes come in
-/// [`meshes`]' order, which is the order of their blocks of shading data.
+/// [`meshes`]' order, which is the order of their blocks of shading data
+/// (`prepare::mesh_shading`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     pub positions: Vec<[Vec3; 3]>,
@@ -81,38 +83,17 @@ pub struct Mesh {
     pub copies: Vec<(u32, Placement)>,
 }
 
-impl Mesh {
-    /// The scene primitive whose shading data (normals, texture coordinates, tangents,
-    /// material) the mesh's triangle `i` takes: its first copy's, or the rest's own.
-    pub fn shading_from(&self, i: usize) -> u32 {
-        self.copies.first().map_or(self.prims[i], |&(first, _)| first + i as u32)
-    }
-
-    /// The placement of the copy whose shading data the mesh takes; None for the rest.
-    pub fn placement(&self) -> Option<Placement> {
-        self.copies.first().map(|&(_, p)| p)
-    }
-}
-
-/// The meshes of a scene's two-level BVH: each instance group's, then the triangles that are
-/// no copy's (if any).
-pub fn meshes(scene: &Scene) -> anyhow::Result<Vec<Mesh>> {
-    let mut placed = vec![false; scene.triangles.len()];
+/// The meshes of a scene's two-level BVH: each instance group's, then the scene's own
+/// triangles (if any), which are no copy's.
+pub fn meshes(scene: &Scene) -> Vec<Mesh> {
     let mut meshes: Vec<Mesh> = Vec::with_capacity(scene.instances.len() + 1);
     for g in &scene.instances {
-        anyhow::ensure!(!g.copies.is_empty(), "an instance group without copies");
-        for &(first, _) in &g.copies {
-            let (first, end) = (first as usize, first as usize + g.mesh.len());
-            anyhow::ensure!(end <= placed.len(), "an instance group names triangles {first}..{end} of {}", placed.len());
-            placed[first..end].iter_mut().for_each(|p| *p = true);
-        }
-        meshes.push(Mesh { positions: g.mesh.clone(), prims: (0..g.mesh.len() as u32).collect(), copies: g.copies.clone() });
+        meshes.push(Mesh { positions: g.mesh.iter().map(|t| t.p).collect(), prims: (0..g.mesh.len() as u32).collect(), copies: g.copies().collect() });
     }
-    let rest: Vec<u32> = (0..scene.triangles.len() as u32).filter(|&i| !placed[i as usize]).collect();
-    if !rest.is_empty() {
-        meshes.push(Mesh { positions: rest.iter().map(|&i| scene.triangles[i as usize].p).collect(), prims: rest, copies: Vec::new() });
+    if !scene.triangles.is_empty() {
+        meshes.push(Mesh { positions: scene.triangles.iter().map(|t| t.p).collect(), prims: (0..scene.triangles.len() as u32).collect(), copies: Vec::new() });
     }
-    Ok(meshes)
+    meshes
 }
 
 /// Builds the two-level BVH of `meshes` ([`meshes`]): `builder` builds every mesh's tree and
@@ -207,11 +188,7 @@ impl TwoLevel {
 /// largest coordinate, so that a ray the mesh's tree hits in object space (after the rounding
 /// of the ray's transform) is not culled by the top level.
 fn world_box(world: &Mat4, b: &Aabb) -> Aabb {
-    let corners: [Vec3; 8] = std::array::from_fn(|k| {
-        let pick = |bit: usize, lo: f32, hi: f32| if k & bit == 0 { lo } else { hi };
-        world.transform_point3(Vec3::new(pick(1, b.min.x, b.max.x), pick(2, b.min.y, b.max.y), pick(4, b.min.z, b.max.z)))
-    });
-    let out = Aabb::from_points(&corners);
+    let out = placed_box(world, b);
     let pad = out.min.abs().max(out.max.abs()).max_element() * 8.0 * f32::EPSILON;
     Aabb { min: out.min - Vec3::splat(pad), max: out.max + Vec3::splat(pad) }
 }

@@ -10,7 +10,7 @@ use crate::bvh::{self, stats::stats, validate::validate, BuildConfig, BuilderKin
 use crate::gpu::Context;
 use crate::gpu_abi::{GpuHit, GpuRay};
 use crate::output::heatmap;
-use crate::prepare::{walks_two_levels, GpuBvh};
+use crate::prepare::{build_two_level, walks_two_levels, GpuBvh, PrepareOptions};
 use crate::query::{rays, RayQuery};
 use crate::scene::{triangle_boxes, Scene};
 use anyhow::{anyhow, Context as _, Result};
@@ -132,57 +132,77 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let builders = if args.builders.is_empty() { BuilderKind::ALL.to_vec() } else { args.builders.clone() };
     let layouts = if args.layouts.is_empty() { LayoutKind::ALL.to_vec() } else { args.layouts.clone() };
-    let (boxes, centroids) = triangle_boxes(&scene.triangles);
     let config = BuildConfig::default();
+    // The one-level rows walk the instances' copies placed; a scene of more copies than a
+    // one-level tree takes gets its two-level rows only.
+    let expanded = match scene.expanded() {
+        Ok(e) => Some(e),
+        Err(e) if walks_two_levels(scene, LayoutKind::Threaded) => {
+            eprintln!("vkrt bvh: {name}: only the two-level rows: {e}");
+            None
+        }
+        Err(e) => return Err(anyhow!("{name}: {e}")),
+    };
+    let (boxes, centroids) = expanded.as_ref().map(|e| triangle_boxes(&e.triangles)).unwrap_or_default();
 
     // The ray sets, shared by every builder x layout: primary rays, and shadow and bounce rays
-    // from their hits (found with the CPU twin of a binned-SAH threaded tree).
+    // from their hits (found with the CPU twin of a binned-SAH threaded tree, two-level for a
+    // scene with instances).
     let primary = rays::primary(scene, args.width, args.height)?;
-    let reference = accel::flatten(&bvh::build(BuilderKind::Sah, &boxes, &centroids, &config), &scene.triangles, LayoutKind::Threaded)?;
+    let reference = match &expanded {
+        Some(e) if scene.instances.is_empty() => {
+            accel::flatten(&bvh::build(BuilderKind::Sah, &boxes, &centroids, &config), &e.triangles, LayoutKind::Threaded)?
+        }
+        _ => build_two_level(scene, &PrepareOptions { builder: BuilderKind::Sah, ..PrepareOptions::default() })?.0,
+    };
     let primary_hits: Vec<GpuHit> = primary.iter().map(|r| reference.trace(r, false)).collect();
     let (shadow, diffuse) = rays::secondary(scene, &primary, &primary_hits, 1);
+    drop(reference);
+    let placed = scene.placed_triangles() as usize;
 
     let mut rows = Vec::new();
     for &builder in &builders {
-        let mut build_ms = f64::INFINITY;
-        let mut tree = bvh::Bvh::default();
-        for _ in 0..args.repeat.max(1) {
-            let t = Instant::now();
-            tree = bvh::build(builder, &boxes, &centroids, &config);
-            build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
-        }
-        validate(&tree, &boxes).map_err(|e| anyhow!("{} tree of {name} is invalid: {e}", builder.name()))?;
-        let s = stats(&tree);
-        for &layout in &layouts {
-            let flat = accel::flatten(&tree, &scene.triangles, layout)?;
-            let gpu = GpuBvh::upload(ctx, &flat)?;
-            let query = RayQuery::new(ctx, &gpu)?;
-            query.warm_up()?;
-            let (p, hits) = measure(&query, &primary, false)?;
-            let (sh, _) = measure(&query, &shadow, true)?;
-            let (d, _) = measure(&query, &diffuse, false)?;
-            if let Some(out) = &args.heatmap {
-                if builder == args.heatmap_builder && layout == args.heatmap_layout {
-                    let out = heatmap_path(out, path, args.scenes.len() > 1);
-                    let counts: Vec<u32> = hits.iter().map(|h| h.nodes_visited).collect();
-                    heatmap::write(&out, &counts, args.width, args.height, "nodes visited per ray")?;
-                    eprintln!("heat map of nodes visited ({} / {}): {}", builder.name(), layout.name(), out.display());
-                }
+        if let Some(e) = &expanded {
+            let mut build_ms = f64::INFINITY;
+            let mut tree = bvh::Bvh::default();
+            for _ in 0..args.repeat.max(1) {
+                let t = Instant::now();
+                tree = bvh::build(builder, &boxes, &centroids, &config);
+                build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
             }
-            rows.push(Row {
-                scene: name.clone(),
-                triangles: scene.triangles.len(),
-                builder,
-                layout,
-                build_ms,
-                nodes: s.nodes,
-                bytes: flat.bytes(),
-                sah: s.sah_cost,
-                primary: p,
-                shadow: sh,
-                diffuse: d,
-                two_level: None,
-            });
+            validate(&tree, &boxes).map_err(|e| anyhow!("{} tree of {name} is invalid: {e}", builder.name()))?;
+            let s = stats(&tree);
+            for &layout in &layouts {
+                let flat = accel::flatten(&tree, &e.triangles, layout)?;
+                let gpu = GpuBvh::upload(ctx, &flat)?;
+                let query = RayQuery::new(ctx, &gpu)?;
+                query.warm_up()?;
+                let (p, hits) = measure(&query, &primary, false)?;
+                let (sh, _) = measure(&query, &shadow, true)?;
+                let (d, _) = measure(&query, &diffuse, false)?;
+                if let Some(out) = &args.heatmap {
+                    if builder == args.heatmap_builder && layout == args.heatmap_layout {
+                        let out = heatmap_path(out, path, args.scenes.len() > 1);
+                        let counts: Vec<u32> = hits.iter().map(|h| h.nodes_visited).collect();
+                        heatmap::write(&out, &counts, args.width, args.height, "nodes visited per ray")?;
+                        eprintln!("heat map of nodes visited ({} / {}): {}", builder.name(), layout.name(), out.display());
+                    }
+                }
+                rows.push(Row {
+                    scene: name.clone(),
+                    triangles: placed,
+                    builder,
+                    layout,
+                    build_ms,
+                    nodes: s.nodes,
+                    bytes: flat.bytes(),
+                    sah: s.sah_cost,
+                    primary: p,
+                    shadow: sh,
+                    diffuse: d,
+                    two_level: None,
+                });
+            }
         }
         if layouts.contains(&LayoutKind::Threaded) && walks_two_levels(scene, LayoutKind::Threaded) {
             rows.push(two_level_row(ctx, &name, scene, builder, args, [&primary, &shadow, &diffuse])?);
@@ -197,7 +217,7 @@ fn two_level_row(ctx: &Context, name: &str, scene: &Scene, builder: BuilderKind,
     let mut built = None;
     for _ in 0..args.repeat.max(1) {
         let t = Instant::now();
-        built = Some(two_level::build(&two_level::meshes(scene)?, builder, &BuildConfig::default())?);
+        built = Some(two_level::build(&two_level::meshes(scene), builder, &BuildConfig::default())?);
         build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
     }
     let (nodes, triangles) = built.ok_or_else(|| anyhow!("no two-level build"))?;
@@ -208,7 +228,7 @@ fn two_level_row(ctx: &Context, name: &str, scene: &Scene, builder: BuilderKind,
     query.warm_up()?;
     Ok(Row {
         scene: name.to_string(),
-        triangles: scene.triangles.len(),
+        triangles: scene.placed_triangles() as usize,
         builder,
         layout: LayoutKind::Threaded,
         build_ms,

@@ -52,7 +52,7 @@ impl Features {
     /// or the sky) needs it; an unused material costs nothing.
     pub fn of(scene: &Scene) -> Self {
         let mut used = vec![false; scene.materials.len()];
-        for t in &scene.triangles {
+        for t in scene.triangles.iter().chain(scene.instances.iter().flat_map(|g| &g.mesh)) {
             if let Some(u) = used.get_mut(t.material as usize) {
                 *u = true;
             }

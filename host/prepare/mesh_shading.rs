@@ -1,71 +1,47 @@
-//! The shading data of a two-level BVH (`accel::two_level`): one block per mesh, in object
-//! space, instead of an entry per copy of each triangle. A mesh's entries are its first copy's
-//! (the scene's, in the world) turned back into object space: normals by the transpose of the
-//! placement's linear part (the inverse of the inverse transpose that placed them), tangents by
-//! its inverse, a mirror's swap of the second and third vertices undone. The shaders turn them
-//! out again into each hit copy's world (`instance.glsl`, `surface.glsl`). Emitters keep their
-//! world triangles (one per copy: each copy is its own light) and name their shading entry.
+//! The shading data of a two-level BVH (`accel::two_level`): one block per mesh, in the
+//! meshes' order (`two_level::meshes`: each instance group's, then the scene's own
+//! triangles), instead of an entry per copy of each triangle. An instanced mesh's entries are
+//! its object-space data as the loader kept it (`scene::instance::InstanceGroup`); the shaders
+//! turn them out into each hit copy's world (`instance.glsl`, `surface.glsl`). Emitters are
+//! one per copy of each emitting triangle (each copy is its own light), in the world, in
+//! primitive-id order, each naming its mesh's entry.
 
-use glam::{Mat3, Vec3};
-
+use super::scene_buffers::{emitter, shading, tangents, uv};
 use super::SceneBuffers;
-use crate::accel::two_level::Mesh;
 use crate::gpu_abi::constants::EMITTER_SWAPPED;
-use crate::gpu_abi::{GpuShading, GpuTangents, GpuUv};
 use crate::scene::Scene;
 
-/// `buffers` (by the scene's primitive ids) made per mesh of `meshes` (`two_level::meshes`).
-pub fn per_mesh(buffers: &mut SceneBuffers, scene: &Scene, meshes: &[Mesh]) {
-    let mut entry_of = vec![u32::MAX; scene.triangles.len()];
-    let mut swapped = vec![false; scene.triangles.len()];
-    let (mut shading, mut uvs, mut tangents) = (Vec::new(), Vec::new(), Vec::new());
-    for mesh in meshes {
-        let base = shading.len() as u32;
-        // The scene's primitives whose entry this mesh's is: every copy's, or the rest's own.
-        if mesh.copies.is_empty() {
-            for (k, &prim) in mesh.prims.iter().enumerate() {
-                entry_of[prim as usize] = base + k as u32;
-            }
+/// The scene's arrays with a block of shading data per mesh of its two-level BVH.
+pub fn per_mesh(scene: &Scene) -> SceneBuffers {
+    let textured = scene.materials.iter().any(|m| m.has_textures());
+    let normal_mapped = scene.materials.iter().any(|m| m.normal_texture.is_some());
+    let mut b = SceneBuffers::without_triangles(scene);
+    let mut group_bases = Vec::with_capacity(scene.instances.len());
+    let meshes = scene.instances.iter().map(|g| (&g.mesh, &g.tangents)).chain(std::iter::once((&scene.triangles, &scene.tangents)));
+    for (k, (triangles, mesh_tangents)) in meshes.enumerate() {
+        if k < scene.instances.len() {
+            group_bases.push(b.shading.len() as u32);
         }
-        for &(first, placement) in &mesh.copies {
-            for i in 0..mesh.positions.len() as u32 {
-                entry_of[(first + i) as usize] = base + i;
-                swapped[(first + i) as usize] = placement.mirrored();
-            }
+        let base = b.shading.len() as u32;
+        b.shading.extend(triangles.iter().map(shading));
+        if textured {
+            b.uvs.extend(triangles.iter().map(uv));
         }
-        let (linear, mirrored) = mesh.placement().map_or((Mat3::IDENTITY, false), |p| (Mat3::from_mat4(p.world()), p.mirrored()));
-        let to_object_normal = linear.transpose();
-        let to_object_tangent = linear.inverse();
-        let order = |mut a: [[f32; 3]; 3]| {
-            if mirrored {
-                a.swap(1, 2);
-            }
-            a
-        };
-        for i in 0..mesh.positions.len() {
-            let p = mesh.shading_from(i) as usize;
-            let s = buffers.shading[p];
-            let n = order([s.n0, s.n1, s.n2]).map(|n| (to_object_normal * Vec3::from(n)).normalize_or_zero().to_array());
-            shading.push(GpuShading { n0: n[0], n1: n[1], n2: n[2], ..s });
-            if let Some(uv) = buffers.uvs.get(p) {
-                let (uv1, uv2) = if mirrored { (uv.uv2, uv.uv1) } else { (uv.uv1, uv.uv2) };
-                uvs.push(GpuUv { uv1, uv2, ..*uv });
-            }
-            if let Some(t) = buffers.tangents.get(p) {
-                let sign = if mirrored { -1.0 } else { 1.0 };
-                let object = |t: [f32; 4]| (to_object_tangent * Vec3::new(t[0], t[1], t[2])).normalize_or_zero().extend(t[3] * sign).to_array();
-                let (t1, t2) = if mirrored { (t.t2, t.t1) } else { (t.t1, t.t2) };
-                tangents.push(GpuTangents { t0: object(t.t0), t1: object(t1), t2: object(t2) });
-            }
+        if normal_mapped {
+            b.tangents.extend((0..triangles.len()).map(|i| tangents(mesh_tangents.get(i))));
+        }
+        if k == scene.instances.len() {
+            b.emitters.extend(scene.emissive_triangles().into_iter().map(|prim| emitter(scene, &scene.triangles[prim as usize], base + prim, 0)));
         }
     }
-    for e in &mut buffers.emitters {
-        if swapped.get(e.prim as usize).copied().unwrap_or(false) {
-            e.flags |= EMITTER_SWAPPED;
+    for (g, base) in scene.instances.iter().zip(group_bases) {
+        let emitting: Vec<usize> = (0..g.mesh.len()).filter(|&i| scene.materials.get(g.mesh[i].material as usize).is_some_and(|m| m.is_emissive())).collect();
+        for (c, placement) in g.placements.iter().enumerate() {
+            // A mirrored copy's placed triangle has its second and third vertices swapped
+            // against its shading entry's.
+            let flags = if placement.mirrored() { EMITTER_SWAPPED } else { 0 };
+            b.emitters.extend(emitting.iter().map(|&i| emitter(scene, &g.placed(c, i), base + i as u32, flags)));
         }
-        e.prim = entry_of.get(e.prim as usize).copied().unwrap_or(e.prim);
     }
-    buffers.shading = shading;
-    buffers.uvs = uvs;
-    buffers.tangents = tangents;
+    b
 }

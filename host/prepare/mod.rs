@@ -215,36 +215,44 @@ impl PreparedScene {
     /// layout gets its two-level BVH ([`build_two_level`]), any other scene or layout the
     /// one-level tree over every triangle ([`build_bvh`]).
     pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
-        // The two-level BVH's meshes: its trees and its shading data are made from them.
-        let mut meshes = None;
-        let (flat, mut times) = if walks_two_levels(scene, options.layout) {
-            let clock = std::time::Instant::now();
-            let m = meshes.insert(accel::two_level::meshes(scene)?);
-            (two_level_flat(m, options)?, PrepareTimes { tree: clock.elapsed().as_secs_f64(), ..PrepareTimes::default() })
-        } else {
-            build_bvh(scene, options)?
-        };
-        let start = std::time::Instant::now();
+        // Of the scene as loaded: an expanded copy's bounds are its exact ones, a little inside
+        // the placed boxes `Scene::bounds` takes, and both walks must offset rays alike.
         let info = SceneInfo::of(scene);
-        let mut buffers = SceneBuffers::new(scene);
-        let mut specular = (Vec::new(), Vec::new());
-        if let Some(meshes) = &meshes {
-            // In the world, before the shading data is made per mesh (in object space).
-            specular = specular_triangles(scene, &buffers);
-            mesh_shading::per_mesh(&mut buffers, scene, meshes);
+        if !walks_two_levels(scene, options.layout) {
+            let expanded = expand(scene, options.layout)?;
+            let (flat, mut times) = build_bvh(&expanded, options)?;
+            let start = std::time::Instant::now();
+            let buffers = SceneBuffers::new(&expanded);
+            let (lights, atlas) = lights_and_atlas(&expanded, &buffers, &info);
+            times.shading = start.elapsed().as_secs_f64();
+            return Ok(Self { flat, buffers, atlas, lights, info, times, specular_triangles: Vec::new(), specular_shading: Vec::new() });
         }
-        let lights = LightTable::new(&buffers, info.radius);
-        let atlas = TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES);
+        let (flat, mut times) = build_two_level(scene, options)?;
+        let start = std::time::Instant::now();
+        let buffers = mesh_shading::per_mesh(scene);
+        anyhow::ensure!(buffers.shading.len() == flat.triangles.len(), "the two-level BVH's meshes and their shading data disagree");
+        let (specular_triangles, specular_shading) = specular_triangles(scene, &buffers.materials);
+        let (lights, atlas) = lights_and_atlas(scene, &buffers, &info);
         times.shading = start.elapsed().as_secs_f64();
-        let (specular_triangles, specular_shading) = specular;
         Ok(Self { flat, buffers, atlas, lights, info, times, specular_triangles, specular_shading })
     }
+}
+
+fn lights_and_atlas(scene: &Scene, buffers: &SceneBuffers, info: &SceneInfo) -> (LightTable, TextureAtlas) {
+    (LightTable::new(buffers, info.radius), TextureAtlas::pack(&scene.textures, TEXEL_BUDGET_BYTES))
+}
+
+/// The scene with its instances' copies placed ([`Scene::expanded`]), for a one-level BVH in
+/// `layout`; the error says why a scene of too many copies needs the threaded layout.
+pub fn expand(scene: &Scene, layout: LayoutKind) -> Result<std::borrow::Cow<'_, Scene>> {
+    scene.expanded().map_err(|e| anyhow::anyhow!("{e}")).with_context(|| format!("laying the scene out as {}", layout.name()))
 }
 
 /// Builds the scene's BVH with `options.builder` and lays it out as `options.layout`: all a
 /// batch query needs. Also returns the seconds its steps took (`shading` left 0).
 pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
     let clock = std::time::Instant::now();
+    let scene = &*expand(scene, options.layout)?;
     let lap = || clock.elapsed().as_secs_f64();
     let (boxes, centroids) = crate::scene::triangle_boxes(&scene.triangles);
     let t_boxes = lap();
@@ -275,19 +283,28 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
     Ok((flat, PrepareTimes { boxes: t_boxes, tree: t_tree - t_boxes, flatten: t_flat - t_tree, shading: 0.0 }))
 }
 
-/// The scene's triangles of mirror, glass and glossy materials, in the world and in scene
-/// order, each with its shading entry (the triangle's `prim` indexes the second list): all
-/// that `mirrors::planar_mirrors` and `casters::caustic_casters` may keep.
-fn specular_triangles(scene: &Scene, buffers: &SceneBuffers) -> (Vec<GpuTriangle>, Vec<GpuShading>) {
+/// The scene's triangles of mirror, glass and glossy materials in the world, every copy of
+/// an instanced mesh placed, in primitive-id order, each with its world shading entry (the
+/// triangle's `prim` indexes the second list): all that `mirrors::planar_mirrors` and
+/// `casters::caustic_casters` may keep.
+fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTriangle>, Vec<GpuShading>) {
     use crate::gpu_abi::constants::{MATERIAL_DIELECTRIC, MATERIAL_MIRROR};
     let specular = |m: &GpuMaterial| m.flags & (MATERIAL_MIRROR | MATERIAL_DIELECTRIC) != 0 || m.specular.iter().any(|&k| k > 0.0);
-    let keep: Vec<bool> = buffers.materials.iter().map(specular).collect();
-    (0..scene.triangles.len())
-        .filter(|&i| keep.get(scene.triangles[i].material as usize).copied().unwrap_or(false))
+    let keep: Vec<bool> = materials.iter().map(specular).collect();
+    let kept = |t: &crate::scene::Triangle| keep.get(t.material as usize).copied().unwrap_or(false);
+    let mut world: Vec<crate::scene::Triangle> = scene.triangles.iter().filter(|t| kept(t)).copied().collect();
+    for g in &scene.instances {
+        let specular_mesh: Vec<usize> = (0..g.mesh.len()).filter(|&i| kept(&g.mesh[i])).collect();
+        for c in 0..g.placements.len() {
+            world.extend(specular_mesh.iter().map(|&i| g.placed(c, i)));
+        }
+    }
+    world
+        .iter()
         .enumerate()
-        .map(|(k, i)| {
-            let p = scene.triangles[i].p;
-            (GpuTriangle { v0: p[0].to_array(), prim: k as u32, v1: p[1].to_array(), shading: 0, v2: p[2].to_array(), _pad1: 0 }, buffers.shading[i])
+        .map(|(k, t)| {
+            let p = t.p;
+            (GpuTriangle { v0: p[0].to_array(), prim: k as u32, v1: p[1].to_array(), shading: 0, v2: p[2].to_array(), _pad1: 0 }, scene_buffers::shading(t))
         })
         .unzip()
 }
@@ -305,11 +322,7 @@ pub fn walks_two_levels(scene: &Scene, layout: LayoutKind) -> bool {
 /// walk for such a scene ([`walks_two_levels`]). The time is all in `tree`.
 pub fn build_two_level(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
     let clock = std::time::Instant::now();
-    let flat = two_level_flat(&accel::two_level::meshes(scene)?, options)?;
-    Ok((flat, PrepareTimes { tree: clock.elapsed().as_secs_f64(), ..PrepareTimes::default() }))
-}
-
-fn two_level_flat(meshes: &[accel::two_level::Mesh], options: &PrepareOptions) -> Result<FlatBvh> {
-    let (nodes, triangles) = accel::two_level::build(meshes, options.builder, &options.build).context("building the two-level BVH")?;
-    Ok(nodes.into_flat(triangles))
+    let meshes = accel::two_level::meshes(scene);
+    let (nodes, triangles) = accel::two_level::build(&meshes, options.builder, &options.build).context("building the two-level BVH")?;
+    Ok((nodes.into_flat(triangles), PrepareTimes { tree: clock.elapsed().as_secs_f64(), ..PrepareTimes::default() }))
 }

@@ -3,7 +3,7 @@
 use super::texture_atlas::gpu_index;
 use crate::gpu_abi::constants::*;
 use crate::gpu_abi::{GpuEmitter, GpuLight, GpuMaterial, GpuShading, GpuTangents, GpuUv};
-use crate::scene::{Light, Material, Scene};
+use crate::scene::{Light, Material, Scene, Triangle};
 
 /// Everything the shaders read about a scene except its BVH.
 #[derive(Debug, Clone, Default)]
@@ -79,67 +79,60 @@ pub fn gpu_light(l: &Light) -> GpuLight {
 }
 
 impl SceneBuffers {
+    /// The arrays of a scene whose BVH is one level: an entry per primitive of `scene`, which
+    /// has no instances (`Scene::expanded`; a two-level BVH's are `mesh_shading::per_mesh`).
     pub fn new(scene: &Scene) -> Self {
-        let shading = scene
-            .triangles
-            .iter()
-            .map(|t| {
-                let n = t.n.unwrap_or([t.cross().normalize_or_zero(); 3]);
-                GpuShading { n0: n[0].to_array(), material: t.material, n1: n[1].to_array(), _pad0: 0, n2: n[2].to_array(), _pad1: 0 }
-            })
-            .collect();
-        let emitters = scene
-            .emissive_triangles()
-            .into_iter()
-            .map(|prim| {
-                let t = &scene.triangles[prim as usize];
-                GpuEmitter {
-                    v0: t.p[0].to_array(),
-                    prim,
-                    v1: t.p[1].to_array(),
-                    area: t.area(),
-                    v2: t.p[2].to_array(),
-                    flags: 0,
-                    // The factor only, also with an emission texture: the light picker weighs a
-                    // triangle by it and the shader multiplies in the texel at the sampled point
-                    // (lights.glsl), so light sampling stays unbiased (a dark texture only makes
-                    // the pick less well matched to the power).
-                    radiance: scene.materials[t.material as usize].emission.to_array(),
-                    _pad1: 0,
-                }
-            })
-            .collect();
         let textured = scene.materials.iter().any(|m| m.has_textures());
-        let uvs = if textured {
-            scene
-                .triangles
-                .iter()
-                .map(|t| {
-                    let uv = t.uv.unwrap_or_default();
-                    GpuUv { uv0: uv[0].to_array(), uv1: uv[1].to_array(), uv2: uv[2].to_array(), _pad0: 0, _pad1: 0 }
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
         let normal_mapped = scene.materials.iter().any(|m| m.normal_texture.is_some());
-        let tangents = if normal_mapped {
-            (0..scene.triangles.len())
-                .map(|i| {
-                    let t = scene.tangents.get(i).copied().unwrap_or_default();
-                    GpuTangents { t0: t[0].to_array(), t1: t[1].to_array(), t2: t[2].to_array() }
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
+        let emitters = scene.emissive_triangles().into_iter().map(|prim| emitter(scene, &scene.triangles[prim as usize], prim, 0)).collect();
         Self {
-            uvs,
-            tangents,
-            shading,
-            materials: scene.materials.iter().map(gpu_material).collect(),
-            lights: scene.lights.iter().map(gpu_light).collect(),
+            shading: scene.triangles.iter().map(shading).collect(),
+            uvs: if textured { scene.triangles.iter().map(uv).collect() } else { Vec::new() },
+            tangents: if normal_mapped { (0..scene.triangles.len()).map(|i| tangents(scene.tangents.get(i))).collect() } else { Vec::new() },
             emitters,
+            ..Self::without_triangles(scene)
         }
+    }
+
+    /// The materials and lights, and no triangle's entries.
+    pub fn without_triangles(scene: &Scene) -> Self {
+        Self { materials: scene.materials.iter().map(gpu_material).collect(), lights: scene.lights.iter().map(gpu_light).collect(), ..Self::default() }
+    }
+}
+
+/// A triangle's shading entry: its normals (the geometric one at each vertex where the file
+/// has none) and material.
+pub fn shading(t: &Triangle) -> GpuShading {
+    let n = t.n.unwrap_or([t.cross().normalize_or_zero(); 3]);
+    GpuShading { n0: n[0].to_array(), material: t.material, n1: n[1].to_array(), _pad0: 0, n2: n[2].to_array(), _pad1: 0 }
+}
+
+/// A triangle's texture coordinates (zero where the file has none).
+pub fn uv(t: &Triangle) -> GpuUv {
+    let uv = t.uv.unwrap_or_default();
+    GpuUv { uv0: uv[0].to_array(), uv1: uv[1].to_array(), uv2: uv[2].to_array(), _pad0: 0, _pad1: 0 }
+}
+
+/// A triangle's vertex tangents (zero where it has none).
+pub fn tangents(t: Option<&[glam::Vec4; 3]>) -> GpuTangents {
+    let t = t.copied().unwrap_or_default();
+    GpuTangents { t0: t[0].to_array(), t1: t[1].to_array(), t2: t[2].to_array() }
+}
+
+/// An emitting triangle `t` (in the world) whose shading entry is `prim`.
+pub fn emitter(scene: &Scene, t: &Triangle, prim: u32, flags: u32) -> GpuEmitter {
+    GpuEmitter {
+        v0: t.p[0].to_array(),
+        prim,
+        v1: t.p[1].to_array(),
+        area: t.area(),
+        v2: t.p[2].to_array(),
+        flags,
+        // The factor only, also with an emission texture: the light picker weighs a triangle
+        // by it and the shader multiplies in the texel at the sampled point (lights.glsl), so
+        // light sampling stays unbiased (a dark texture only makes the pick less well matched
+        // to the power).
+        radiance: scene.materials[t.material as usize].emission.to_array(),
+        _pad1: 0,
     }
 }

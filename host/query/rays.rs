@@ -48,7 +48,7 @@ pub fn secondary(scene: &Scene, primary: &[GpuRay], hits: &[GpuHit], seed: u64) 
     let mut shadow = Vec::new();
     let mut diffuse = Vec::new();
     for (r, h) in primary.iter().zip(hits) {
-        let Some(tri) = (h.prim != PRIM_NONE).then(|| scene.triangles.get(h.prim as usize)).flatten() else { continue };
+        let Some(tri) = (h.prim != PRIM_NONE).then(|| scene.triangle(h.prim)).flatten() else { continue };
         let d = Vec3::from(r.direction);
         let mut n = tri.cross().normalize_or_zero();
         if n.dot(d) > 0.0 {

@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use super::{Camera, Light, Scene, Triangle};
 use crate::error::InputError;
+use crate::geom::Aabb;
 
 /// The most triangles a scene may place (glTF node placements, the lab YAML's `Instances`).
 /// Each placement of a mesh is expanded into a copy of its triangles (about 110-160 bytes each
@@ -26,26 +27,39 @@ pub fn push_triangles(scene: &mut Scene, triangles: impl IntoIterator<Item = Tri
 /// Adds one triangle as [`push_triangles`] does; false if it was dropped as degenerate (a
 /// loader that keeps a per-triangle array beside `Scene::triangles`, as glTF's tangents, keeps
 /// it in step with this).
-pub fn push_triangle(scene: &mut Scene, mut t: Triangle) -> bool {
-    let len = t.cross().length();
-    // NaN fails both tests: a triangle with a non-finite vertex is unusable too.
-    let has_area = len > 0.0 && len.is_finite();
-    if !has_area {
+pub fn push_triangle(scene: &mut Scene, t: Triangle) -> bool {
+    let Some(t) = kept(t) else {
         scene.stats.dropped_degenerate += 1;
         return false;
-    }
-    if let Some(n) = t.n {
-        let n = n.map(|v| v.normalize_or_zero());
-        t.n = if n.iter().all(|v| *v != Vec3::ZERO && v.is_finite()) { Some(n) } else { None };
-    }
+    };
     scene.triangles.push(t);
     true
+}
+
+/// The triangle as a scene keeps it, or None if it is degenerate: zero or non-finite area (it
+/// can never be hit and would break sampling by area). Shading normals that cannot be
+/// normalised (zero, NaN, inf) are dropped for that triangle.
+pub fn kept(mut t: Triangle) -> Option<Triangle> {
+    let len = t.cross().length();
+    // NaN fails both tests: a triangle with a non-finite vertex is unusable too.
+    if !(len > 0.0 && len.is_finite()) {
+        return None;
+    }
+    t.n = t.n.and_then(normalised_normals);
+    Some(t)
+}
+
+/// Unit shading normals, or None if one cannot be normalised.
+pub fn normalised_normals(n: [Vec3; 3]) -> Option<[Vec3; 3]> {
+    let n = n.map(|v| v.normalize_or_zero());
+    n.iter().all(|v| *v != Vec3::ZERO && v.is_finite()).then_some(n)
 }
 
 /// What both loaders do last: refuse an empty scene, choose the camera (the file's first, or a
 /// default), and decode the materials' textures.
 pub fn finish_scene(scene: &mut Scene, file: &Path, cameras: Vec<Camera>) -> anyhow::Result<()> {
-    if scene.triangles.is_empty() {
+    scene.number_instances().map_err(|e| InputError::new(file, None, e))?;
+    if scene.placed_triangles() == 0 {
         let dropped = scene.stats.dropped_degenerate;
         let msg = if dropped > 0 { format!("the scene has no triangles (all {dropped} were degenerate)") } else { "the scene has no triangles".to_string() };
         return Err(InputError::new(file, None, msg).into());
@@ -70,7 +84,7 @@ pub const DEFAULT_AMBIENT: Vec3 = Vec3::splat(0.05);
 /// replaces both (`prepare::GpuScene::set_environment`, `prepare::Features::without_default_light`).
 /// Returns whether it lit the scene.
 pub fn light_if_unlit(scene: &mut Scene, ambient: Vec3) -> bool {
-    if !scene.lights.is_empty() || !scene.emissive_triangles().is_empty() {
+    if !scene.lights.is_empty() || scene.emits() {
         return false;
     }
     scene.lights.push(default_light(scene));
@@ -142,9 +156,44 @@ pub fn looks_like_a_room(scene: &Scene) -> bool {
 }
 
 /// The closest triangle along the ray: its distance, and whether the ray meets its front.
+/// Copies of instanced meshes are met in object space (the ray's direction not renormalised,
+/// so t stays the world's), only those whose placed box the ray meets.
 pub fn closest_face(scene: &Scene, origin: Vec3, dir: Vec3) -> Option<(f32, bool)> {
+    let mut best = closest_in(&scene.triangles, origin, dir, None);
+    for g in &scene.instances {
+        let object = g.object_bounds();
+        for p in &g.placements {
+            let world = p.world();
+            let limit = best.map_or(f32::INFINITY, |(t, _)| t);
+            if !meets_box(&super::instance::placed_box(&world, &object), origin, dir, limit) {
+                continue;
+            }
+            let to_object = world.inverse();
+            let (o, d) = (to_object.transform_point3(origin), to_object.transform_vector3(dir));
+            // The side met is the object's: a normal n goes out as the inverse transpose times
+            // n, whose dot with the world direction is n's with the object direction (a
+            // mirror's swapped winding included, `Placement::place`).
+            if let Some(hit) = closest_in(&g.mesh, o, d, best.map(|(t, _)| t)) {
+                best = Some(hit);
+            }
+        }
+    }
+    best
+}
+
+/// Whether the ray from `origin` along `dir` meets the box before `limit` (slabs).
+fn meets_box(b: &Aabb, origin: Vec3, dir: Vec3, limit: f32) -> bool {
+    let inv = dir.recip();
+    let (t0, t1) = ((b.min - origin) * inv, (b.max - origin) * inv);
+    let near = t0.min(t1).max_element().max(0.0);
+    let far = t0.max(t1).min_element().min(limit);
+    near <= far
+}
+
+/// The closest of `triangles` along the ray nearer than `limit`, as [`closest_face`].
+fn closest_in(triangles: &[Triangle], origin: Vec3, dir: Vec3, limit: Option<f32>) -> Option<(f32, bool)> {
     let mut best: Option<(f32, bool)> = None;
-    for tri in &scene.triangles {
+    for tri in triangles {
         // Möller & Trumbore 1997: a heuristic needs no watertightness.
         let (e1, e2) = (tri.p[1] - tri.p[0], tri.p[2] - tri.p[0]);
         let pv = dir.cross(e2);
@@ -160,7 +209,8 @@ pub fn closest_face(scene: &Scene, origin: Vec3, dir: Vec3) -> Option<(f32, bool
         // Written as what a hit is, so that a NaN (coordinates near f32::MAX overflow the
         // products) is no hit.
         let hit = u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0;
-        if !hit || best.is_some_and(|(b, _)| t >= b) {
+        let nearest = best.map(|(b, _)| b).or(limit);
+        if !hit || nearest.is_some_and(|b| t >= b) {
             continue;
         }
         let normal = match tri.n {

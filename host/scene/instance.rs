@@ -1,92 +1,94 @@
 //! Copies of a mesh placed by affine transforms ("instances"): the lab YAML's `Instances`
-//! (scene/lab_yaml.rs). Each copy is expanded into the scene's triangles at load, as glTF's
-//! node placements are, so the triangles a scene would hold are counted against
-//! [`super::assemble::MAX_PLACED_TRIANGLES`] before anything is copied. [`place_copies`] also
-//! records how the copies were made ([`InstanceGroup`]), so that the prepare stage can build a
-//! two-level BVH over one copy of the mesh (`accel::two_level`); shading still reads the
-//! expanded copies' normals, texture coordinates and materials.
+//! (scene/lab_yaml.rs) and glTF meshes that nodes place more than once. A loader keeps one
+//! copy of the mesh, in object space, and the copies' placements ([`InstanceGroup`]): the
+//! scene holds the mesh once however many copies there are, and the prepare stage builds a
+//! two-level BVH over it (`accel::two_level`). What needs the copies in the world (another
+//! layout's one-level tree, `Scene::expanded`) places them from the group.
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
-use super::assemble::push_triangle;
+use super::assemble::{kept, normalised_normals};
 use super::{Scene, Triangle};
+use crate::geom::Aabb;
 
-/// Copies of one mesh as a loader expanded them into [`Scene::triangles`]: each copy's
-/// triangles are contiguous from its first primitive id, in the mesh's order, each
-/// [`Placement::place`]d. What a two-level BVH needs to keep one copy.
+/// Copies of one mesh. Copy `c`'s triangle `i` has primitive id `first + c * mesh.len() + i`:
+/// groups number their copies after the scene's own triangles, in the order the loader made
+/// the groups (`Scene::number_instances`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct InstanceGroup {
-    /// The mesh's vertex positions in object space, in the copies' triangle order (a
-    /// mirrored copy has its second and third vertices swapped, [`Placement::place`]).
-    pub mesh: Vec<[Vec3; 3]>,
-    /// Each copy: the primitive id of its first triangle, and its placement.
-    pub copies: Vec<(u32, Placement)>,
+    /// The mesh's triangles in object space, with their shading normals, texture coordinates
+    /// and materials (degenerate ones dropped, as every loader drops them).
+    pub mesh: Vec<Triangle>,
+    /// Tangents by mesh triangle, in object space (as `Scene::tangents`): empty unless some
+    /// material has a normal map.
+    pub tangents: Vec<[Vec4; 3]>,
+    /// Each copy's object-to-world placement.
+    pub placements: Vec<Placement>,
+    /// The primitive id of the first copy's first triangle.
+    pub first: u32,
 }
 
 impl InstanceGroup {
-    /// Triangles the copies hold in the scene.
-    pub fn placed_triangles(&self) -> usize {
-        self.mesh.len() * self.copies.len()
+    /// A group of `mesh` (object space, triangles as a loader keeps them) placed by
+    /// `placements`, numbered later.
+    pub fn new(mesh: Vec<Triangle>, tangents: Vec<[Vec4; 3]>, placements: Vec<Placement>) -> Self {
+        Self { mesh, tangents, placements, first: 0 }
+    }
+
+    /// Triangles the copies place in the scene.
+    pub fn placed_triangles(&self) -> u64 {
+        self.mesh.len() as u64 * self.placements.len() as u64
+    }
+
+    /// Each copy's first primitive id and placement.
+    pub fn copies(&self) -> impl Iterator<Item = (u32, Placement)> + '_ {
+        let n = self.mesh.len() as u32;
+        self.placements.iter().enumerate().map(move |(c, &p)| (self.first + c as u32 * n, p))
+    }
+
+    /// Copy `copy`'s triangle `i` in the world, its shading normals normalised as a loader's.
+    pub fn placed(&self, copy: usize, i: usize) -> Triangle {
+        let mut t = self.placements[copy].place(&self.mesh[i]);
+        t.n = t.n.and_then(normalised_normals);
+        t
+    }
+
+    /// Copy `copy`'s tangents of triangle `i` in the world (zero where the group has none).
+    pub fn placed_tangents(&self, copy: usize, i: usize) -> [Vec4; 3] {
+        let t = self.tangents.get(i).copied().unwrap_or([Vec4::ZERO; 3]);
+        self.placements[copy].place_tangents(t)
+    }
+
+    /// The mesh's object-space bounds.
+    pub fn object_bounds(&self) -> Aabb {
+        self.mesh.iter().fold(Aabb::EMPTY, |b, t| b.union(&t.bounds()))
     }
 }
 
-/// Which of a mesh's triangles each copy kept (a transform can make a triangle degenerate in
-/// one copy and not in another), gathered copy by copy while a loader expands them: an
-/// [`InstanceGroup`] where every copy kept the same ones, none otherwise (the copies are then
-/// only expanded).
-#[derive(Debug, Clone, Default)]
-pub struct CopiesMade {
-    mesh: Vec<[Vec3; 3]>,
-    kept: Option<Vec<bool>>,
-    copies: Vec<(u32, Placement)>,
-    added: usize,
-    alike: bool,
-}
-
-impl CopiesMade {
-    /// `mesh`: the object-space positions of every triangle a copy is made of, in order.
-    pub fn new(mesh: Vec<[Vec3; 3]>) -> Self {
-        Self { mesh, kept: None, copies: Vec::new(), added: 0, alike: true }
-    }
-
-    /// A copy placed by `world` from primitive `first` on, with `kept` telling which of the
-    /// mesh's triangles it kept. A transform that [`Placement`] refuses (singular) leaves the
-    /// copies expanded.
-    pub fn add(&mut self, first: usize, world: Mat4, kept: Vec<bool>) {
-        self.added += 1;
-        match (u32::try_from(first), Placement::new(world)) {
-            (Ok(first), Ok(p)) => self.copies.push((first, p)),
-            _ => self.alike = false,
-        }
-        match &self.kept {
-            None => self.kept = Some(kept),
-            Some(first_copy) => self.alike &= *first_copy == kept,
-        }
-    }
-
-    /// Copies added so far.
-    pub fn count(&self) -> usize {
-        self.added
-    }
-
-    /// The group, if the copies are alike and keep a triangle.
-    pub fn group(self) -> Option<InstanceGroup> {
-        let kept = self.kept.filter(|_| self.alike)?;
-        let mesh: Vec<[Vec3; 3]> = self.mesh.iter().zip(&kept).filter(|(_, &keep)| keep).map(|(t, _)| *t).collect();
-        (!mesh.is_empty()).then_some(InstanceGroup { mesh, copies: self.copies })
+/// Adds `mesh` (object space) placed by each of `placements` to the scene as one
+/// [`InstanceGroup`], its degenerate triangles dropped (and counted once per copy, as the
+/// copies' would be), numbered after what the scene holds so far (`Scene::number_instances`
+/// numbers them again once the scene is whole).
+pub fn add_group(scene: &mut Scene, mesh: &[Triangle], placements: Vec<Placement>) {
+    let kept: Vec<Triangle> = mesh.iter().filter_map(|&t| kept(t)).collect();
+    scene.stats.dropped_degenerate += (mesh.len() - kept.len()) * placements.len();
+    if !kept.is_empty() && !placements.is_empty() {
+        let first = u32::try_from(scene.placed_triangles()).unwrap_or(u32::MAX);
+        scene.instances.push(InstanceGroup { first, ..InstanceGroup::new(kept, Vec::new(), placements) });
     }
 }
 
-/// Adds one copy of `mesh` per placement to the scene's triangles and, where every copy kept
-/// the same triangles, records them as an [`InstanceGroup`] ([`CopiesMade`]).
-pub fn place_copies(scene: &mut Scene, mesh: &[Triangle], placements: Vec<Placement>) {
-    let mut made = CopiesMade::new(mesh.iter().map(|t| t.p).collect());
-    for p in &placements {
-        let first = scene.triangles.len();
-        let kept = mesh.iter().map(|t| push_triangle(scene, p.place(t))).collect();
-        made.add(first, p.world, kept);
+/// The world box of an object box placed by `world`: its eight corners transformed (exact for
+/// translations and scales, a little loose around a turned mesh).
+pub fn placed_box(world: &Mat4, b: &Aabb) -> Aabb {
+    if b.is_empty() {
+        return *b;
     }
-    scene.instances.extend(made.group());
+    let corners: [Vec3; 8] = std::array::from_fn(|k| {
+        let pick = |bit: usize, lo: f32, hi: f32| if k & bit == 0 { lo } else { hi };
+        world.transform_point3(Vec3::new(pick(1, b.min.x, b.max.x), pick(2, b.min.y, b.max.y), pick(4, b.min.z, b.max.z)))
+    });
+    Aabb::from_points(&corners)
 }
 
 /// An object-to-world transform and what placing a triangle by it needs.
@@ -164,6 +166,20 @@ impl Placement {
             if let Some(uv) = placed.uv.as_mut() {
                 uv.swap(1, 2);
             }
+        }
+        placed
+    }
+
+    /// A triangle's tangents (xyz along increasing u, w the bitangent's handedness) placed as
+    /// [`Placement::place`] places its vertices: xyz by the linear part, and under a mirror the
+    /// second and third swapped and the handedness flipped (the placed frame's bitangent
+    /// w * cross(n, t) must still point along increasing v).
+    pub fn place_tangents(&self, t: [Vec4; 3]) -> [Vec4; 3] {
+        let sign = if self.mirrored { -1.0 } else { 1.0 };
+        let mut placed =
+            t.map(|t| if t.truncate() == Vec3::ZERO { t } else { self.world.transform_vector3(t.truncate()).normalize_or_zero().extend(t.w * sign) });
+        if self.mirrored {
+            placed.swap(1, 2);
         }
         placed
     }

@@ -5,9 +5,10 @@
 //! type or a missing file is an error. yaml-rust2 keeps no positions for nodes, so only YAML
 //! syntax errors carry a line and column.
 //!
-//! Triangle order (= primitive ids): `Models`, then `ComplexModels`, then `Instances` (each
-//! instance's copies in the order of its `Transforms`), each in file order, then one triangle
-//! per `Area` light, so model ids do not depend on the light list.
+//! Triangle order (= primitive ids): `Models`, then `ComplexModels`, each in file order, then
+//! one triangle per `Area` light, so model ids do not depend on the light list; then the
+//! copies of `Instances` (each entry's in the order of its `Transforms`), which the scene keeps
+//! as one mesh and its placements (`scene::instance`).
 //!
 //! `Instances` is vkrt's addition to the course format: a mesh and a list of transforms, one
 //! copy per transform (docs/reference.md, "Instances"):
@@ -31,11 +32,11 @@ use glam::Vec3;
 use yaml_rust2::yaml::Hash;
 use yaml_rust2::{Yaml, YamlLoader};
 
-use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT, MAX_PLACED_TRIANGLES};
+use super::assemble::{finish_scene, light_if_unlit, push_triangles, DEFAULT_AMBIENT};
 use super::input_file::{read_bounded, regular_file, MAX_DESCRIPTION_BYTES};
-use super::instance::{place_copies, Placement};
+use super::instance::{add_group, Placement};
 use super::obj::{load_obj_meshes, ObjMesh};
-use super::{Camera, Light, Material, Scene, Triangle};
+use super::{Camera, Light, Material, Scene, Triangle, MAX_PRIMITIVES};
 use crate::error::InputError;
 
 const TOP_KEYS: &[&str] = &["Reflection", "AmbientIntensity", "Skyboxes", "Cameras", "Lights", "Materials", "Models", "ComplexModels", "Instances"];
@@ -428,8 +429,8 @@ impl Lab<'_> {
     }
 
     /// `Instances`: a mesh (with a named material, or its MTL's) and one copy of it per entry of
-    /// `Transforms`. The copies' triangles are counted against [`MAX_PLACED_TRIANGLES`] before
-    /// any is made.
+    /// `Transforms`, kept as one mesh and its placements. The copies' triangles are counted
+    /// against [`MAX_PRIMITIVES`] before any is placed.
     fn instances(&mut self, y: &Yaml, names: &HashMap<String, u32>) -> anyhow::Result<()> {
         for (i, m) in self.list(y, "Instances")?.iter().enumerate() {
             let MeshEntry { key, h, mesh_key, mesh_path } = self.mesh_entry("Instances", i, m, INSTANCE_KEYS)?;
@@ -448,16 +449,16 @@ impl Lab<'_> {
                 }
                 None => Cow::Owned(self.mesh_with_own_materials(&mesh_path, &mesh_key)?),
             };
-            let total = self.scene.triangles.len() as u64 + mesh.len() as u64 * placements.len() as u64;
-            if total > MAX_PLACED_TRIANGLES {
+            let total = self.scene.placed_triangles() + mesh.len() as u64 * placements.len() as u64;
+            if total > MAX_PRIMITIVES {
                 let msg = format!(
-                    "{} copies of a {}-triangle mesh would make the scene {total} triangles; vkrt copies each instance and takes at most {MAX_PLACED_TRIANGLES}",
+                    "{} copies of a {}-triangle mesh would make the scene {total} triangles, every copy counted; a primitive id names at most {MAX_PRIMITIVES}",
                     placements.len(),
                     mesh.len()
                 );
                 return Err(self.err(&transforms_key, msg));
             }
-            place_copies(&mut self.scene, &mesh, placements);
+            add_group(&mut self.scene, &mesh, placements);
         }
         Ok(())
     }

@@ -64,8 +64,9 @@ impl Triangle {
 /// Everything a render needs from the scene file.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
-    /// All triangles. A triangle's index here is its primitive id everywhere else (hit records,
-    /// `vkrt trace` output): loaders keep the file's order, faces fan-triangulated in place.
+    /// The triangles that are no instance's. A triangle's index here is its primitive id
+    /// everywhere else (hit records, `vkrt trace` output): loaders keep the file's order, faces
+    /// fan-triangulated in place; the copies of `instances` come after them.
     pub triangles: Vec<Triangle>,
     pub materials: Vec<Material>,
     /// Lights that are not triangles (point, directional, spot, cone). Emissive triangles are found
@@ -86,8 +87,10 @@ pub struct Scene {
     pub textures: Vec<Texture>,
     /// What rays that leave the scene see.
     pub sky: Sky,
-    /// How copies of a mesh in `triangles` were placed (lab YAML `Instances`), for a two-level
-    /// BVH over one copy; empty for a scene without instances.
+    /// Meshes placed as copies (lab YAML `Instances`, glTF meshes placed more than once), each
+    /// held once in object space with its placements: their triangles are not in `triangles`,
+    /// and their primitive ids follow its ([`instance::InstanceGroup`]). Empty for a scene
+    /// without instances.
     pub instances: Vec<instance::InstanceGroup>,
     /// Counts of what the loader dropped or changed, for the log.
     pub stats: LoadStats,
@@ -141,13 +144,25 @@ impl LoadStats {
 }
 
 impl Scene {
-    /// Axis-aligned bounds of all triangles.
+    /// Axis-aligned bounds of all triangles, each copy of an instanced mesh by its object
+    /// bounds' placed corners (`instance::placed_box`).
     pub fn bounds(&self) -> Aabb {
         let mut b = Aabb::EMPTY;
         for t in &self.triangles {
             b = b.union(&t.bounds());
         }
+        for g in &self.instances {
+            let object = g.object_bounds();
+            for p in &g.placements {
+                b = b.union(&instance::placed_box(&p.world(), &object));
+            }
+        }
         b
+    }
+
+    /// Triangles in the scene, every copy of an instanced mesh counted.
+    pub fn placed_triangles(&self) -> u64 {
+        self.triangles.len() as u64 + self.instances.iter().map(|g| g.placed_triangles()).sum::<u64>()
     }
 
     /// What is left of the scene once its arrays are prepared for the GPU: cameras, sky,
@@ -159,16 +174,110 @@ impl Scene {
             ambient: self.ambient,
             sky: self.sky,
             stats: self.stats.clone(),
-            triangles: self.triangles.len(),
+            triangles: self.placed_triangles() as usize,
             materials: self.materials.len(),
             lights: self.lights.len(),
         }
     }
 
-    /// Indices of triangles whose material emits light.
+    /// Indices of the triangles (of `triangles`, not of instances) whose material emits light.
     pub fn emissive_triangles(&self) -> Vec<u32> {
-        (0..self.triangles.len() as u32).filter(|&i| self.materials[self.triangles[i as usize].material as usize].is_emissive()).collect()
+        (0..self.triangles.len() as u32).filter(|&i| self.is_emissive(&self.triangles[i as usize])).collect()
     }
+
+    /// Whether some triangle, of the scene's own or of an instanced mesh, emits light.
+    pub fn emits(&self) -> bool {
+        self.triangles.iter().chain(self.instances.iter().flat_map(|g| &g.mesh)).any(|t| self.is_emissive(t))
+    }
+
+    fn is_emissive(&self, t: &Triangle) -> bool {
+        self.materials.get(t.material as usize).is_some_and(Material::is_emissive)
+    }
+
+    /// Primitive `prim` in the world: one of `triangles`, or a copy's triangle placed.
+    pub fn triangle(&self, prim: u32) -> Option<Triangle> {
+        if let Some(t) = self.triangles.get(prim as usize) {
+            return Some(*t);
+        }
+        let g = self.instances.iter().find(|g| prim >= g.first && u64::from(prim - g.first) < g.placed_triangles())?;
+        let k = (prim - g.first) as usize;
+        Some(g.placed(k / g.mesh.len(), k % g.mesh.len()))
+    }
+
+    /// Gives each instance group the primitive ids after the scene's own triangles and the
+    /// groups before it; fails if they would pass what a primitive id can name.
+    pub fn number_instances(&mut self) -> Result<(), String> {
+        let mut next = self.triangles.len() as u64;
+        for g in &mut self.instances {
+            g.first = u32::try_from(next).map_err(|_| too_many(next))?;
+            next += g.placed_triangles();
+        }
+        if next > MAX_PRIMITIVES {
+            return Err(too_many(next));
+        }
+        Ok(())
+    }
+
+    /// The scene with every copy of its instanced meshes placed into `triangles` (and their
+    /// tangents into `tangents`), in primitive-id order, and no instances: what a one-level BVH
+    /// is built over. Borrowed when there are no instances. Fails if the copies would pass
+    /// [`assemble::MAX_PLACED_TRIANGLES`] (only a two-level BVH takes more).
+    pub fn expanded(&self) -> Result<std::borrow::Cow<'_, Scene>, String> {
+        if self.instances.is_empty() {
+            return Ok(std::borrow::Cow::Borrowed(self));
+        }
+        let placed = self.placed_triangles();
+        if placed > assemble::MAX_PLACED_TRIANGLES {
+            return Err(format!(
+                "the scene places {placed} triangles as copies of {} instanced meshes; a one-level BVH holds every copy and takes at most {}: only the threaded layout walks instances without copying them",
+                self.instances.len(),
+                assemble::MAX_PLACED_TRIANGLES
+            ));
+        }
+        let mut scene = Scene { instances: Vec::new(), triangles: Vec::with_capacity(placed as usize), ..self.clone_without_geometry() };
+        scene.triangles.extend_from_slice(&self.triangles);
+        let tangents = !self.tangents.is_empty();
+        if tangents {
+            scene.tangents = self.tangents.clone();
+            scene.tangents.resize(self.triangles.len(), [glam::Vec4::ZERO; 3]);
+        }
+        for g in &self.instances {
+            for c in 0..g.placements.len() {
+                for i in 0..g.mesh.len() {
+                    scene.triangles.push(g.placed(c, i));
+                    if tangents {
+                        scene.tangents.push(g.placed_tangents(c, i));
+                    }
+                }
+            }
+        }
+        Ok(std::borrow::Cow::Owned(scene))
+    }
+
+    /// Everything but the triangles, tangents and instances.
+    fn clone_without_geometry(&self) -> Scene {
+        Scene {
+            triangles: Vec::new(),
+            materials: self.materials.clone(),
+            lights: self.lights.clone(),
+            camera: self.camera,
+            cameras: self.cameras.clone(),
+            ambient: self.ambient,
+            tangents: Vec::new(),
+            textures: self.textures.clone(),
+            sky: self.sky,
+            instances: Vec::new(),
+            stats: self.stats.clone(),
+        }
+    }
+}
+
+/// The most triangles a scene may hold, every copy counted: primitive ids are 32-bit, and the
+/// largest is `PRIM_NONE` (no hit).
+pub const MAX_PRIMITIVES: u64 = u32::MAX as u64;
+
+fn too_many(count: u64) -> String {
+    format!("the scene places {count} triangles, every copy counted; a primitive id names at most {MAX_PRIMITIVES}")
 }
 
 /// Boxes and centroids of triangles: the only input a BVH builder sees.

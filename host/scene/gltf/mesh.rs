@@ -20,19 +20,27 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::at;
 use super::materials::{transform_uv, MaterialTable};
-use crate::scene::assemble::{push_triangle, MAX_PLACED_TRIANGLES};
-use crate::scene::{Scene, Triangle};
+use std::collections::BTreeMap;
 
-/// Fails, with the count, if the placed meshes would expand into more than
-/// [`MAX_PLACED_TRIANGLES`] triangles (counted from their accessors' element counts, times each
-/// node's `EXT_mesh_gpu_instancing` instance count).
-pub fn check_placed_triangles(placed: &[super::nodes::Placed], document: &::gltf::Document, file: &Path) -> anyhow::Result<()> {
-    let mut triangles = 0u64;
-    let mut placements = 0u64;
+use crate::scene::assemble::{push_triangle, MAX_PLACED_TRIANGLES};
+use crate::scene::{Scene, Triangle, MAX_PRIMITIVES};
+
+/// How many copies the placed nodes make of each mesh (counted from the nodes, times each
+/// node's `EXT_mesh_gpu_instancing` instance count), by mesh index. Fails, with the count,
+/// before anything is read, if the meshes placed once (each expanded into the scene) would
+/// pass [`MAX_PLACED_TRIANGLES`] triangles, or every copy counted [`MAX_PRIMITIVES`] (a mesh
+/// placed more than once is kept once, `scene::instance`). Triangles are counted from the
+/// accessors' element counts.
+pub fn count_copies(placed: &[super::nodes::Placed], document: &::gltf::Document, file: &Path) -> anyhow::Result<BTreeMap<usize, u64>> {
+    let mut copies: BTreeMap<usize, u64> = BTreeMap::new();
     for p in placed {
         let Some(mesh) = p.node.mesh() else { continue };
-        let copies = super::instancing::copies(&p.node, document, file)?;
-        placements += copies;
+        let entry = copies.entry(mesh.index()).or_default();
+        *entry = entry.saturating_add(super::instancing::copies(&p.node, document, file)?);
+    }
+    let (mut expanded, mut all) = (0u64, 0u64);
+    for (&index, &n) in &copies {
+        let Some(mesh) = document.meshes().nth(index) else { continue };
         let mut mesh_triangles = 0u64;
         for prim in mesh.primitives() {
             let corners = prim.indices().map(|a| a.count()).or_else(|| prim.get(&::gltf::Semantic::Positions).map(|a| a.count())).unwrap_or(0) as u64;
@@ -42,30 +50,27 @@ pub fn check_placed_triangles(placed: &[super::nodes::Placed], document: &::gltf
                 _ => 0,
             };
         }
-        triangles = triangles.saturating_add(mesh_triangles.saturating_mul(copies));
+        if n == 1 {
+            expanded += mesh_triangles;
+        }
+        all = all.saturating_add(mesh_triangles.saturating_mul(n));
     }
-    if triangles > MAX_PLACED_TRIANGLES {
-        let msg = format!(
-            "the scene places {placements} meshes with {triangles} triangles in all; vkrt copies each placement and takes at most {MAX_PLACED_TRIANGLES}"
-        );
+    let placements: u64 = copies.values().fold(0u64, |a, &n| a.saturating_add(n));
+    if expanded > MAX_PLACED_TRIANGLES {
+        let msg = format!("the meshes placed once hold {expanded} triangles; vkrt copies each into the scene and takes at most {MAX_PLACED_TRIANGLES}");
         return Err(at(file, "nodes", msg));
     }
-    Ok(())
+    if all > MAX_PRIMITIVES {
+        let msg = format!("the scene places {placements} meshes with {all} triangles in all; a primitive id names at most {MAX_PRIMITIVES}");
+        return Err(at(file, "nodes", msg));
+    }
+    Ok(copies)
 }
 
 /// Adds every primitive of `mesh`, placed by `world`, to the scene (degenerate triangles
-/// dropped as the other loaders do, `Scene::tangents` kept in step). Returns each of the
-/// mesh's triangles in object space (its file's vertex order) and whether this copy kept it:
-/// what `InstanceGroup`s are made of.
-pub fn add_mesh(
-    scene: &mut Scene,
-    mesh: &::gltf::Mesh,
-    world: Mat4,
-    buffers: &[Vec<u8>],
-    materials: &MaterialTable,
-    file: &Path,
-) -> anyhow::Result<Vec<([Vec3; 3], bool)>> {
-    let mut made = Vec::new();
+/// dropped as the other loaders do, `Scene::tangents` kept in step). With the identity, the
+/// mesh in object space: what an `InstanceGroup` keeps.
+pub fn add_mesh(scene: &mut Scene, mesh: &::gltf::Mesh, world: Mat4, buffers: &[Vec<u8>], materials: &MaterialTable, file: &Path) -> anyhow::Result<()> {
     for prim in mesh.primitives() {
         let loc = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
         let material = materials.index(prim.material().index());
@@ -97,20 +102,17 @@ pub fn add_mesh(
                 .collect()
         });
         for mut c in corners {
-            let object = c.map(|i| Vec3::from(v.positions[i]));
             if mirrored {
                 c.swap(1, 2);
             }
             let t =
                 Triangle { p: c.map(|i| positions[i]), n: normals.as_ref().map(|n| c.map(|i| n[i])), uv: uvs.as_ref().map(|uv| c.map(|i| uv[i])), material };
-            let kept = push_triangle(scene, t);
-            if kept {
+            if push_triangle(scene, t) {
                 scene.tangents.push(tangents.as_ref().map_or([Vec4::ZERO; 3], |ts| c.map(|i| ts[i])));
             }
-            made.push((object, kept));
         }
     }
-    Ok(made)
+    Ok(())
 }
 
 /// A primitive's vertex attributes, each as long as `positions`.

@@ -10,14 +10,16 @@
 //! What is read: the default scene (`scene`, else `scenes[0]`, else every root node), its node
 //! hierarchy ([`nodes`]), every mesh primitive placed by it ([`mesh`]; a mesh used by several
 //! nodes, or drawn many times by one node through `EXT_mesh_gpu_instancing` ([`instancing`]), is
-//! expanded once per placement, and its copies recorded as an `InstanceGroup`, whose two-level
-//! BVH keeps one tree of the mesh and a top level of instances, `accel::two_level`), materials
+//! kept once in object space with its placements, an `InstanceGroup`, whose two-level BVH keeps
+//! one tree of the mesh and a top level of instances, `accel::two_level`), materials
 //! ([`materials`]), `KHR_lights_punctual` lights ([`lights`]) and perspective cameras
 //! ([`cameras`]). Skins, morph targets and animations are not read: the static pose is used.
 //! Which extensions are supported: [`extensions`].
 //!
 //! Triangle order (= primitive ids): nodes in depth-first order from the scene's roots, each
-//! node's primitives in file order, each primitive's triangles in index order.
+//! node's primitives in file order, each primitive's triangles in index order; the copies of
+//! meshes placed more than once after all of those, mesh by mesh in the order first placed,
+//! each copy's triangles in that order.
 
 mod accessors;
 mod buffers;
@@ -33,7 +35,7 @@ mod nodes;
 use std::path::Path;
 
 use super::assemble::{finish_scene, light_if_unlit, DEFAULT_AMBIENT};
-use super::instance::CopiesMade;
+use super::instance::{InstanceGroup, Placement};
 use super::Scene;
 use crate::error::InputError;
 use crate::scene::input_file::{read_bounded, MAX_GEOMETRY_BYTES};
@@ -69,17 +71,41 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
     let mut images = images::Images::new(&document, &buffers, path, dir);
     let table = materials::convert(&document, path, &mut images, &mut scene)?;
     let placed = nodes::walk(&document, path)?;
-    mesh::check_placed_triangles(&placed, &document, path)?;
+    let copies = mesh::count_copies(&placed, &document, path)?;
     let mut cameras = Vec::new();
-    // Each mesh's copies, for the two-level BVH (scene::instance): meshes placed more than once.
-    let mut copies: std::collections::BTreeMap<usize, CopiesMade> = std::collections::BTreeMap::new();
+    // Meshes placed more than once are kept once, in object space, with their placements
+    // (scene::instance), in the order first placed.
+    let mut groups: std::collections::BTreeMap<usize, usize> = std::collections::BTreeMap::new();
     for p in &placed {
         if let Some(mesh) = p.node.mesh() {
-            for world in instancing::worlds(&p.node, &document, &buffers, p.world, path)? {
-                let first = scene.triangles.len();
-                let made = mesh::add_mesh(&mut scene, &mesh, world, &buffers, &table, path)?;
-                let entry = copies.entry(mesh.index()).or_insert_with(|| CopiesMade::new(made.iter().map(|m| m.0).collect()));
-                entry.add(first, world, made.into_iter().map(|m| m.1).collect());
+            let worlds = instancing::worlds(&p.node, &document, &buffers, p.world, path)?;
+            if copies.get(&mesh.index()).copied().unwrap_or(1) <= 1 {
+                for world in worlds {
+                    mesh::add_mesh(&mut scene, &mesh, world, &buffers, &table, path)?;
+                }
+            } else {
+                let g = match groups.get(&mesh.index()) {
+                    Some(&g) => g,
+                    None => {
+                        let mut object = Scene::default();
+                        mesh::add_mesh(&mut object, &mesh, glam::Mat4::IDENTITY, &buffers, &table, path)?;
+                        scene.stats.warnings.append(&mut object.stats.warnings);
+                        // The mesh's degenerate triangles are dropped from each copy.
+                        let n = copies.get(&mesh.index()).copied().unwrap_or(1) as usize;
+                        scene.stats.dropped_degenerate += object.stats.dropped_degenerate * n;
+                        scene.instances.push(InstanceGroup::new(object.triangles, object.tangents, Vec::new()));
+                        groups.insert(mesh.index(), scene.instances.len() - 1);
+                        scene.instances.len() - 1
+                    }
+                };
+                let group = &mut scene.instances[g];
+                for world in worlds {
+                    match Placement::new(world) {
+                        Ok(placement) => group.placements.push(placement),
+                        // A singular transform flattens every triangle of the copy.
+                        Err(_) => scene.stats.dropped_degenerate += group.mesh.len(),
+                    }
+                }
             }
         }
         if let Some(camera) = p.node.camera() {
@@ -89,10 +115,11 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
             scene.lights.push(lights::light(&light, p.world));
         }
     }
-    scene.instances.extend(copies.into_values().filter(|c| c.count() > 1).filter_map(CopiesMade::group));
+    scene.instances.retain(|g| !g.mesh.is_empty() && !g.placements.is_empty());
     if !scene.materials.iter().any(|m| m.normal_texture.is_some()) {
-        // Scene::tangents is empty unless a normal map needs it.
+        // Scene::tangents (and an instanced mesh's) is empty unless a normal map needs it.
         scene.tangents.clear();
+        scene.instances.iter_mut().for_each(|g| g.tangents.clear());
     }
     finish_scene(&mut scene, path, cameras)?;
     // As a bare OBJ: the default light and a little ambient, so that the render is never black.
