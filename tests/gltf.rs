@@ -104,6 +104,69 @@ fn a_mesh_used_by_two_nodes_is_placed_twice_and_a_mirrored_copy_keeps_its_front_
     every_copy_is_hit_through_the_two_level_bvh(&scene);
 }
 
+/// Copies three levels down a node tree (root, two children, two grandchildren each, each
+/// placing two meshes that share their geometry under different materials): each mesh is one
+/// instance group of four copies, placed by the product of its ancestors' transforms, and keeps
+/// its own material.
+#[test]
+fn copies_nested_three_levels_deep_with_shared_geometry_under_two_materials() {
+    use json::mesh::{Mode, Semantic};
+    let mut doc = Doc::new();
+    let colour = |doc: &mut Doc, rgb: [f32; 3]| {
+        doc.material(json::Material {
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor([rgb[0], rgb[1], rgb[2], 1.0]),
+                ..Default::default()
+            },
+            ..Default::default()
+        })
+    };
+    let (red, blue) = (colour(&mut doc, [1.0, 0.0, 0.0]), colour(&mut doc, [0.0, 0.0, 1.0]));
+    let (p, n, i) = (doc.vec3(&TRI), doc.vec3(&UP_Z), doc.indices(&[0, 1, 2]));
+    let attributes = [(Semantic::Positions, p), (Semantic::Normals, n)];
+    let red_mesh = doc.mesh(vec![doc.primitive(&attributes, Some(i), Some(red), Mode::Triangles)]);
+    let blue_mesh = doc.mesh(vec![doc.primitive(&attributes, Some(i), Some(blue), Mode::Triangles)]);
+    let mut want: Vec<(json::Index<json::Mesh>, Mat4)> = Vec::new();
+    let root_m = Mat4::from_translation(Vec3::new(0.0, 0.0, 10.0));
+    let mut children = Vec::new();
+    for (a, x) in [(0.5f32, -5.0f32), (-1.0, 5.0)] {
+        let child_m = Mat4::from_translation(Vec3::new(x, 0.0, 0.0)) * Mat4::from_rotation_z(a);
+        let mut grandchildren = Vec::new();
+        for (s, y) in [(2.0f32, 3.0f32), (0.5, -3.0)] {
+            let grand_m = Mat4::from_translation(Vec3::new(0.0, y, 0.0)) * Mat4::from_scale(Vec3::splat(s));
+            // The blue copy beside the red one, so that each is hit on its own.
+            let leaves: Vec<_> = [(red_mesh, 0.0), (blue_mesh, 1.5)]
+                .into_iter()
+                .map(|(mesh, dx)| {
+                    want.push((mesh, root_m * child_m * grand_m * Mat4::from_translation(Vec3::new(dx, 0.0, 0.0))));
+                    doc.node(json::Node { translation: Some([dx, 0.0, 0.0]), ..mesh_node(mesh) })
+                })
+                .collect();
+            grandchildren.push(doc.node(json::Node { matrix: Some(grand_m.to_cols_array()), children: Some(leaves), ..Default::default() }));
+        }
+        children.push(doc.node(json::Node { matrix: Some(child_m.to_cols_array()), children: Some(grandchildren), ..Default::default() }));
+    }
+    let root = doc.node(json::Node { matrix: Some(root_m.to_cols_array()), children: Some(children), ..Default::default() });
+    doc.scene(vec![root]);
+    let path = scratch("nested").join("nested.gltf");
+    doc.write_gltf(&path, Storage::External("nested.bin"));
+
+    let scene = load_scene(&path).unwrap();
+    assert!(scene.triangles.is_empty());
+    assert_eq!(scene.instances.iter().map(|g| g.placements.len()).collect::<Vec<_>>(), vec![4, 4]);
+    let colours: Vec<Vec3> = scene.instances.iter().map(|g| scene.materials[g.mesh[0].material as usize].diffuse).collect();
+    assert_eq!(colours, vec![Vec3::X, Vec3::Z], "each mesh keeps its own material");
+    // Copies in depth-first order, the red mesh's first.
+    let expanded = scene.expanded().unwrap();
+    let ordered: Vec<Mat4> = [red_mesh, blue_mesh].iter().flat_map(|m| want.iter().filter(move |(w, _)| w == m).map(|(_, t)| *t)).collect();
+    for (t, world) in expanded.triangles.iter().zip(&ordered) {
+        for k in 0..3 {
+            assert_near("nested copy", t.p[k], world.transform_point3(Vec3::from(TRI[k])));
+        }
+    }
+    every_copy_is_hit_through_the_two_level_bvh(&scene);
+}
+
 /// Rays straight down -z onto each triangle's centroid hit that triangle through the scene's
 /// two-level BVH (`accel::two_level`), as they do in the expanded scene.
 fn every_copy_is_hit_through_the_two_level_bvh(scene: &vkrt::scene::Scene) {
