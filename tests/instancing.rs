@@ -446,3 +446,31 @@ fn normal_mapped_copies_shade_as_the_expanded_ones() {
         assert!(close as f64 >= 0.95 * a.pixels.len() as f64, "{name}: {close} of {} pixels alike", a.pixels.len());
     }
 }
+
+/// More triangles than a one-level tree takes (2^28): 900 copies of a 327,680-triangle sphere,
+/// 295 M triangles, held as one mesh. The scene loads and renders through the two-level BVH;
+/// a one-level layout is refused with the count and the layout that walks it.
+#[test]
+fn copies_past_the_one_level_bound_render_through_the_two_level_bvh_only() {
+    let ball = icosphere(7).to_triangles(1.0, Vec3::ZERO, 0);
+    assert_eq!(ball.len(), 327_680);
+    let placements = (0..900).map(|k| translation((k % 30) as f32 * 2.5 - 36.0, 0.0, (k / 30) as f32 * 2.5 - 36.0)).collect();
+    let scene = lit(scene_with(&[(ball, placements)]));
+    assert_eq!(scene.placed_triangles(), 2 + 900 * 327_680);
+    assert!(scene.placed_triangles() > vkrt::scene::assemble::MAX_PLACED_TRIANGLES);
+    let e = scene.expanded().unwrap_err();
+    assert!(e.contains("294912002") && e.contains("threaded"), "{e}");
+    let options = PrepareOptions { layout: vkrt::accel::LayoutKind::MultiOrder, ..PrepareOptions::default() };
+    let e = format!("{:#}", vkrt::prepare::PreparedScene::new(&scene, &options).unwrap_err());
+    assert!(e.contains("multi-order") && e.contains("threaded"), "{e}");
+
+    let ctx = common::gpu_context();
+    let gpu = common::upload(&ctx, &scene);
+    assert_eq!(gpu.bvh.instances.as_ref().map(|_| ()), Some(()));
+    let settings = vkrt::integrator::RenderSettings { width: 48, height: 32, spp: 1, ..Default::default() };
+    let image = vkrt::integrator::whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap().0;
+    // The balls and the ground under the point light: most pixels see something lit.
+    let lit_pixels = image.pixels.iter().filter(|p| p[0] > 0.0).count();
+    assert!(lit_pixels * 2 > image.pixels.len(), "{lit_pixels} of {} pixels lit", image.pixels.len());
+    common::assert_no_validation_messages(&ctx);
+}

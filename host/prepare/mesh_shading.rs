@@ -9,31 +9,16 @@
 use super::scene_buffers::{emitter, shading, tangents, uv};
 use super::SceneBuffers;
 use crate::gpu_abi::constants::EMITTER_SWAPPED;
-use crate::scene::Scene;
+use crate::scene::{Scene, Triangle};
+use glam::Vec4;
 
 /// The scene's arrays with a block of shading data per mesh of its two-level BVH.
 pub fn per_mesh(scene: &Scene) -> SceneBuffers {
-    let textured = scene.materials.iter().any(|m| m.has_textures());
-    let normal_mapped = scene.materials.iter().any(|m| m.normal_texture.is_some());
     let mut b = SceneBuffers::without_triangles(scene);
-    let mut group_bases = Vec::with_capacity(scene.instances.len());
-    let meshes = scene.instances.iter().map(|g| (&g.mesh, &g.tangents)).chain(std::iter::once((&scene.triangles, &scene.tangents)));
-    for (k, (triangles, mesh_tangents)) in meshes.enumerate() {
-        if k < scene.instances.len() {
-            group_bases.push(b.shading.len() as u32);
-        }
-        let base = b.shading.len() as u32;
-        b.shading.extend(triangles.iter().map(shading));
-        if textured {
-            b.uvs.extend(triangles.iter().map(uv));
-        }
-        if normal_mapped {
-            b.tangents.extend((0..triangles.len()).map(|i| tangents(mesh_tangents.get(i))));
-        }
-        if k == scene.instances.len() {
-            b.emitters.extend(scene.emissive_triangles().into_iter().map(|prim| emitter(scene, &scene.triangles[prim as usize], base + prim, 0)));
-        }
-    }
+    let group_bases: Vec<u32> = scene.instances.iter().map(|g| add_block(&mut b, scene, &g.mesh, &g.tangents)).collect();
+    let own_base = add_block(&mut b, scene, &scene.triangles, &scene.tangents);
+    // Emitters in primitive-id order: the scene's own, then each group's copy by copy.
+    b.emitters.extend(scene.emissive_triangles().into_iter().map(|prim| emitter(scene, &scene.triangles[prim as usize], own_base + prim, 0)));
     for (g, base) in scene.instances.iter().zip(group_bases) {
         let emitting: Vec<usize> = (0..g.mesh.len()).filter(|&i| scene.materials.get(g.mesh[i].material as usize).is_some_and(|m| m.is_emissive())).collect();
         for (c, placement) in g.placements.iter().enumerate() {
@@ -44,4 +29,18 @@ pub fn per_mesh(scene: &Scene) -> SceneBuffers {
         }
     }
     b
+}
+
+/// Adds one mesh's block (shading entries; texture coordinates and tangents where some
+/// material needs them) and returns where it starts.
+fn add_block(b: &mut SceneBuffers, scene: &Scene, triangles: &[Triangle], mesh_tangents: &[[Vec4; 3]]) -> u32 {
+    let base = b.shading.len() as u32;
+    b.shading.extend(triangles.iter().map(shading));
+    if scene.materials.iter().any(|m| m.has_textures()) {
+        b.uvs.extend(triangles.iter().map(uv));
+    }
+    if scene.materials.iter().any(|m| m.normal_texture.is_some()) {
+        b.tangents.extend((0..triangles.len()).map(|i| tangents(mesh_tangents.get(i))));
+    }
+    base
 }

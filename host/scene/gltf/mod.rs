@@ -79,33 +79,13 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
     for p in &placed {
         if let Some(mesh) = p.node.mesh() {
             let worlds = instancing::worlds(&p.node, &document, &buffers, p.world, path)?;
-            if copies.get(&mesh.index()).copied().unwrap_or(1) <= 1 {
-                for world in worlds {
-                    mesh::add_mesh(&mut scene, &mesh, world, &buffers, &table, path)?;
-                }
-            } else {
-                let g = match groups.get(&mesh.index()) {
-                    Some(&g) => g,
-                    None => {
-                        let mut object = Scene::default();
-                        mesh::add_mesh(&mut object, &mesh, glam::Mat4::IDENTITY, &buffers, &table, path)?;
-                        scene.stats.warnings.append(&mut object.stats.warnings);
-                        // The mesh's degenerate triangles are dropped from each copy.
-                        let n = copies.get(&mesh.index()).copied().unwrap_or(1) as usize;
-                        scene.stats.dropped_degenerate += object.stats.dropped_degenerate * n;
-                        scene.instances.push(InstanceGroup::new(object.triangles, object.tangents, Vec::new()));
-                        groups.insert(mesh.index(), scene.instances.len() - 1);
-                        scene.instances.len() - 1
-                    }
-                };
-                let group = &mut scene.instances[g];
-                for world in worlds {
-                    match Placement::new(world) {
-                        Ok(placement) => group.placements.push(placement),
-                        // A singular transform flattens every triangle of the copy.
-                        Err(_) => scene.stats.dropped_degenerate += group.mesh.len(),
+            match copies.get(&mesh.index()).copied().unwrap_or(1) {
+                0 | 1 => {
+                    for world in worlds {
+                        mesh::add_mesh(&mut scene, &mesh, world, &buffers, &table, path)?;
                     }
                 }
+                n => add_copies(&mut scene, &mut groups, &mesh, n, worlds, (&buffers, &table), path)?,
             }
         }
         if let Some(camera) = p.node.camera() {
@@ -125,6 +105,41 @@ pub fn load_gltf(path: &Path) -> anyhow::Result<Scene> {
     // As a bare OBJ: the default light and a little ambient, so that the render is never black.
     light_if_unlit(&mut scene, DEFAULT_AMBIENT);
     Ok(scene)
+}
+
+/// Adds the copies placed by `worlds` to `mesh`'s instance group (of `copies` in all), made on
+/// its first placement: the mesh read once, in object space. A singular transform, which would
+/// flatten every triangle of its copy, places none; a degenerate triangle of the mesh is
+/// dropped from every copy (and counted so).
+fn add_copies(
+    scene: &mut Scene,
+    groups: &mut std::collections::BTreeMap<usize, usize>,
+    mesh: &::gltf::Mesh,
+    copies: u64,
+    worlds: Vec<glam::Mat4>,
+    (buffers, table): (&[Vec<u8>], &materials::MaterialTable),
+    path: &Path,
+) -> anyhow::Result<()> {
+    let g = match groups.get(&mesh.index()) {
+        Some(&g) => g,
+        None => {
+            let mut object = Scene::default();
+            mesh::add_mesh(&mut object, mesh, glam::Mat4::IDENTITY, buffers, table, path)?;
+            scene.stats.warnings.append(&mut object.stats.warnings);
+            scene.stats.dropped_degenerate += object.stats.dropped_degenerate * copies as usize;
+            scene.instances.push(InstanceGroup::new(object.triangles, object.tangents, Vec::new()));
+            groups.insert(mesh.index(), scene.instances.len() - 1);
+            scene.instances.len() - 1
+        }
+    };
+    let group = &mut scene.instances[g];
+    for world in worlds {
+        match Placement::new(world) {
+            Ok(placement) => group.placements.push(placement),
+            Err(_) => scene.stats.dropped_degenerate += group.mesh.len(),
+        }
+    }
+    Ok(())
 }
 
 /// A GLB file's header (spec section 4.4.2: magic, version, total length) gives a length of at
