@@ -232,11 +232,12 @@ impl Scene {
     }
 
     /// The layout `trace` walks: the one asked for, else the scene's if `layout=` was given at
-    /// load, else `vkrt trace`'s default.
+    /// load or the scene walks its instances through a two-level BVH, else `vkrt trace`'s
+    /// default.
     fn trace_layout(&self, layout: Option<&str>) -> Result<LayoutKind> {
         Ok(match layout {
             Some(n) => layout_named(n)?,
-            None if self.layout_given => self.options.layout,
+            None if self.layout_given || self.gpu.bvh.instances.is_some() => self.options.layout,
             None => vkrt::cli::trace::default_layout(self.summary.triangles, self.device.ctx.info.max_texel_buffer_elements),
         })
     }

@@ -254,7 +254,8 @@ def _trace(
     they are views of one record array (strided), made without a copy.
 
     ``layout``: the BVH layout to walk (``LAYOUTS``); default the scene's if ``load_scene`` was
-    given one, else ``vkrt trace``'s default. The same bits as ``vkrt trace`` for every builder
+    given one, else ``vkrt trace``'s default (for copies of a mesh, the lab YAML's
+    ``Instances`` or a glTF mesh placed more than once: their two-level BVH). The same bits as ``vkrt trace`` for every builder
     and layout. Raises ``ValueError`` for wrong shapes and non-finite or zero rays.
     """
     if directions is None:
