@@ -11,6 +11,7 @@ loading the same copies as one `shapegroup` and 10,000 `instance`s, then its pat
     python3 tools/bench-billion.py [--rounds 1] [--count 10000] [--vkrt target/release/vkrt] [--mitsuba PYTHON]
 """
 import argparse
+import importlib.util
 import json
 import os
 import re
@@ -24,19 +25,11 @@ MESH = os.path.normpath(os.path.join(ROOT, "../shared/scenes/happy-buddha-100k/b
 
 
 def run(vkrt, scene, out, extra):
-    cmd = ["/usr/bin/time", "-f", "maxrss %M", vkrt, "render", scene, "-o", out, "--cache", "off", "-v"] + extra
-    text = subprocess.run(cmd, capture_output=True, text=True, check=True).stderr
-    num = lambda pattern: float(re.search(pattern, text).group(1))
-    r = {
-        "triangles": num(r": (\d+) triangles"),
-        "load": num(r"load ([\d.]+) s"),
-        "build": num(r"BVH build ([\d.]+) s"),
-        "upload": num(r"upload ([\d.]+) s"),
-        "render": num(r"rendered .* in ([\d.]+) s"),
-        "bvh_mib": num(r"device arrays: BVH ([\d.]+) MiB"),
-        "shading_mib": num(r"shading ([\d.]+) MiB"),
-        "rss_gib": num(r"maxrss (\d+)") / 2**20,
-    }
+    """tools/bench-instancing.py's run, and load + build + upload."""
+    spec = importlib.util.spec_from_file_location("bench_instancing", os.path.join(ROOT, "tools/bench-instancing.py"))
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    r = bench.run(vkrt, scene, out, extra)
     r["prepare"] = r["load"] + r["build"] + r["upload"]
     return r
 

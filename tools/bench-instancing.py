@@ -43,6 +43,7 @@ def run(vkrt, scene, out, extra):
     text = subprocess.run(cmd, capture_output=True, text=True, check=True).stderr
     num = lambda pattern: float(re.search(pattern, text).group(1))
     return {
+        "triangles": num(r": (\d+) triangles"),
         "load": num(r"load ([\d.]+) s"),
         "build": num(r"BVH build ([\d.]+) s"),
         "upload": num(r"upload ([\d.]+) s"),
