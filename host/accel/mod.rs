@@ -173,7 +173,8 @@ pub fn flatten_with_list(bvh: &Bvh, tris: &[Triangle], layout: LayoutKind, liste
     Ok(flat)
 }
 
-fn gpu_triangle(t: &Triangle, prim: u32) -> GpuTriangle {
+/// `t`'s positions as the device takes them, with primitive id `prim`.
+pub fn gpu_triangle(t: &Triangle, prim: u32) -> GpuTriangle {
     GpuTriangle { v0: t.p[0].to_array(), prim, v1: t.p[1].to_array(), shading: 0, v2: t.p[2].to_array(), _pad1: 0 }
 }
 

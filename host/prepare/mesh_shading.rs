@@ -6,21 +6,20 @@
 //! one per copy of each emitting triangle (each copy is its own light), in the world, in
 //! primitive-id order, each naming its mesh's entry.
 
-use super::scene_buffers::{emitter, shading, tangents, uv};
+use super::scene_buffers::emitter;
 use super::SceneBuffers;
 use crate::gpu_abi::constants::EMITTER_SWAPPED;
-use crate::scene::{Scene, Triangle};
-use glam::Vec4;
+use crate::scene::Scene;
 
 /// The scene's arrays with a block of shading data per mesh of its two-level BVH.
 pub fn per_mesh(scene: &Scene) -> SceneBuffers {
     let mut b = SceneBuffers::without_triangles(scene);
-    let group_bases: Vec<u32> = scene.instances.iter().map(|g| add_block(&mut b, scene, &g.mesh, &g.tangents)).collect();
-    let own_base = add_block(&mut b, scene, &scene.triangles, &scene.tangents);
+    let group_bases: Vec<u32> = scene.instances.iter().map(|g| b.add_block(scene, &g.mesh, &g.tangents)).collect();
+    let own_base = b.add_block(scene, &scene.triangles, &scene.tangents);
     // Emitters in primitive-id order: the scene's own, then each group's copy by copy.
-    b.emitters.extend(scene.emissive_triangles().into_iter().map(|prim| emitter(scene, &scene.triangles[prim as usize], own_base + prim, 0)));
+    b.add_own_emitters(scene, own_base);
     for (g, base) in scene.instances.iter().zip(group_bases) {
-        let emitting: Vec<usize> = (0..g.mesh.len()).filter(|&i| scene.materials.get(g.mesh[i].material as usize).is_some_and(|m| m.is_emissive())).collect();
+        let emitting: Vec<usize> = (0..g.mesh.len()).filter(|&i| scene.is_emissive(&g.mesh[i])).collect();
         for (c, placement) in g.placements.iter().enumerate() {
             // A mirrored copy's placed triangle has its second and third vertices swapped
             // against its shading entry's.
@@ -29,18 +28,4 @@ pub fn per_mesh(scene: &Scene) -> SceneBuffers {
         }
     }
     b
-}
-
-/// Adds one mesh's block (shading entries; texture coordinates and tangents where some
-/// material needs them) and returns where it starts.
-fn add_block(b: &mut SceneBuffers, scene: &Scene, triangles: &[Triangle], mesh_tangents: &[[Vec4; 3]]) -> u32 {
-    let base = b.shading.len() as u32;
-    b.shading.extend(triangles.iter().map(shading));
-    if scene.materials.iter().any(|m| m.has_textures()) {
-        b.uvs.extend(triangles.iter().map(uv));
-    }
-    if scene.materials.iter().any(|m| m.normal_texture.is_some()) {
-        b.tangents.extend((0..triangles.len()).map(|i| tangents(mesh_tangents.get(i))));
-    }
-    base
 }

@@ -299,14 +299,7 @@ fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTrian
             world.extend(specular_mesh.iter().map(|&i| g.placed(c, i)));
         }
     }
-    world
-        .iter()
-        .enumerate()
-        .map(|(k, t)| {
-            let p = t.p;
-            (GpuTriangle { v0: p[0].to_array(), prim: k as u32, v1: p[1].to_array(), shading: 0, v2: p[2].to_array(), _pad1: 0 }, scene_buffers::shading(t))
-        })
-        .unzip()
+    world.iter().enumerate().map(|(k, t)| (accel::gpu_triangle(t, k as u32), scene_buffers::shading(t))).unzip()
 }
 
 /// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the

@@ -82,21 +82,35 @@ impl SceneBuffers {
     /// The arrays of a scene whose BVH is one level: an entry per primitive of `scene`, which
     /// has no instances (`Scene::expanded`; a two-level BVH's are `mesh_shading::per_mesh`).
     pub fn new(scene: &Scene) -> Self {
-        let textured = scene.materials.iter().any(|m| m.has_textures());
-        let normal_mapped = scene.materials.iter().any(|m| m.normal_texture.is_some());
-        let emitters = scene.emissive_triangles().into_iter().map(|prim| emitter(scene, &scene.triangles[prim as usize], prim, 0)).collect();
-        Self {
-            shading: scene.triangles.iter().map(shading).collect(),
-            uvs: if textured { scene.triangles.iter().map(uv).collect() } else { Vec::new() },
-            tangents: if normal_mapped { (0..scene.triangles.len()).map(|i| tangents(scene.tangents.get(i))).collect() } else { Vec::new() },
-            emitters,
-            ..Self::without_triangles(scene)
-        }
+        let mut b = Self::without_triangles(scene);
+        b.add_block(scene, &scene.triangles, &scene.tangents);
+        b.add_own_emitters(scene, 0);
+        b
     }
 
     /// The materials and lights, and no triangle's entries.
     pub fn without_triangles(scene: &Scene) -> Self {
         Self { materials: scene.materials.iter().map(gpu_material).collect(), lights: scene.lights.iter().map(gpu_light).collect(), ..Self::default() }
+    }
+
+    /// Adds a block of entries for `triangles` (shading; texture coordinates and tangents
+    /// where some material of `scene` needs them) and returns where it starts.
+    pub fn add_block(&mut self, scene: &Scene, triangles: &[Triangle], triangle_tangents: &[[glam::Vec4; 3]]) -> u32 {
+        let base = self.shading.len() as u32;
+        self.shading.extend(triangles.iter().map(shading));
+        if scene.materials.iter().any(|m| m.has_textures()) {
+            self.uvs.extend(triangles.iter().map(uv));
+        }
+        if scene.materials.iter().any(|m| m.normal_texture.is_some()) {
+            self.tangents.extend((0..triangles.len()).map(|i| tangents(triangle_tangents.get(i))));
+        }
+        base
+    }
+
+    /// Adds an emitter for each emitting triangle of `scene.triangles`, its shading entry
+    /// `base` plus its index.
+    pub fn add_own_emitters(&mut self, scene: &Scene, base: u32) {
+        self.emitters.extend(scene.emissive_triangles().into_iter().map(|prim| emitter(scene, &scene.triangles[prim as usize], base + prim, 0)));
     }
 }
 

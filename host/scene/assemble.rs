@@ -9,11 +9,12 @@ use super::{Camera, Light, Scene, Triangle};
 use crate::error::InputError;
 use crate::geom::Aabb;
 
-/// The most triangles a scene may place (glTF node placements, the lab YAML's `Instances`).
-/// Each placement of a mesh is expanded into a copy of its triangles (about 110-160 bytes each
-/// on the host before the BVH is built), so 2^28 of them take 30-40 GiB: more than the machines
-/// vkrt is for. A file of many placements of one large mesh is refused with its count before
-/// a triangle is copied.
+/// The most triangles a scene may hold as copies in the world: glTF meshes placed once, and
+/// every copy of the instanced meshes when a one-level BVH needs them placed
+/// (`Scene::expanded`). Each costs about 110-160 bytes on the host before the BVH is built, so
+/// 2^28 of them take 30-40 GiB: more than the machines vkrt is for. A file past it is refused
+/// with its count before a triangle is copied. (Instanced meshes are kept once: their copies
+/// are bounded by `MAX_PRIMITIVES`.)
 pub const MAX_PLACED_TRIANGLES: u64 = 1 << 28;
 
 /// Adds triangles to the scene in order, dropping zero-area ones (counted in `stats`) and

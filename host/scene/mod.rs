@@ -190,7 +190,8 @@ impl Scene {
         self.triangles.iter().chain(self.instances.iter().flat_map(|g| &g.mesh)).any(|t| self.is_emissive(t))
     }
 
-    fn is_emissive(&self, t: &Triangle) -> bool {
+    /// Whether `t`'s material emits light.
+    pub fn is_emissive(&self, t: &Triangle) -> bool {
         self.materials.get(t.material as usize).is_some_and(Material::is_emissive)
     }
 
