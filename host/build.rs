@@ -38,7 +38,7 @@ struct Variant {
     name: String,
     shader: &'static variants::Shader,
     layout: &'static kinds::LayoutInfo,
-    /// The build over a two-level BVH of instanced meshes (`TWO_LEVEL`, threaded levels).
+    /// The build over a two-level BVH of instanced meshes (`TWO_LEVEL`: threaded or multi-order levels, one build for both).
     two_level: bool,
     spv: PathBuf,
 }
@@ -73,7 +73,8 @@ fn run() -> Result<(), String> {
             list.push(Variant { spv: dir.join(format!("{name}.spv")), name, shader, layout, two_level: false });
         }
         // Every product shader that walks a layout also walks the two-level BVH of a scene with
-        // instances (accel::two_level), whose levels are threaded.
+        // instances (accel::two_level), whose levels are threaded or multi-order: one build
+        // (with the threaded layout's define) walks both, their orders being data.
         if shader.per_layout && shader.role == Role::Product {
             let name = format!("{}_two_level", shader.name);
             list.push(Variant { spv: out.join(format!("{name}.spv")), name, shader, layout: &kinds::LAYOUTS[0], two_level: true });

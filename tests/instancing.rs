@@ -1,12 +1,15 @@
-//! The two-level BVH over instanced meshes (`accel::two_level`, issue 44): its walk on the GPU
-//! (`trace_two_level`) against its CPU twin, hit for hit and counter for counter, and both
-//! against the expanded scene the loaders make of the same copies.
+//! The two-level BVH over instanced meshes (`accel::two_level`, issue 44), in each layout its
+//! levels take (threaded, multi-order): its walk on the GPU (`trace_two_level`) against its CPU
+//! twin, hit for hit and counter for counter, and both against the expanded scene the loaders
+//! make of the same copies.
 
 mod common;
 
 use common::closed_meshes::{icosphere, subdivided_cube};
 use glam::Vec3;
 use vkrt::accel::leaf::brute_force;
+use vkrt::accel::two_level::LAYOUTS;
+use vkrt::accel::LayoutKind;
 use vkrt::gpu_abi::constants::PRIM_NONE;
 use vkrt::gpu_abi::{GpuHit, GpuRay};
 use vkrt::prepare::{build_two_level, GpuBvh, PrepareOptions};
@@ -86,8 +89,11 @@ fn rays(n: usize, seed: u64, grid: bool) -> Vec<GpuRay> {
         .collect()
 }
 
-fn two_level(scene: &Scene) -> vkrt::accel::FlatBvh {
-    build_two_level(scene, &PrepareOptions::default()).unwrap().0
+/// The scene's two-level BVH with its levels in `layout`.
+fn two_level_in(scene: &Scene, layout: LayoutKind) -> vkrt::accel::FlatBvh {
+    let flat = build_two_level(scene, &PrepareOptions { layout, ..PrepareOptions::default() }).unwrap().0;
+    assert_eq!(flat.layout(), layout);
+    flat
 }
 
 #[test]
@@ -130,28 +136,68 @@ fn a_mesh_s_degenerate_triangles_are_dropped_once_per_copy() {
 #[test]
 fn exact_translations_hit_as_the_expanded_scene_bit_for_bit() {
     let scene = translated_scene();
-    let flat = two_level(&scene);
-    assert_eq!(flat.nodes.instances().len(), 26, "25 copies and the ground");
-    // One copy of the cube in memory, not 25.
-    assert_eq!(flat.triangles.len(), 192 + 2);
     let expanded = scene.expanded().unwrap();
-    for ray in rays(4000, 1, true) {
-        let expected = brute_force(&expanded.triangles, &ray);
-        let got = flat.trace(&ray, false);
-        assert_eq!(
-            (got.t.to_bits(), got.prim, got.u.to_bits(), got.v.to_bits()),
-            (expected.t.to_bits(), expected.prim, expected.u.to_bits(), expected.v.to_bits()),
-            "{ray:?}"
-        );
+    for layout in LAYOUTS {
+        let flat = two_level_in(&scene, layout);
+        assert_eq!(flat.nodes.instances().len(), 26, "25 copies and the ground");
+        // One copy of the cube in memory, not 25.
+        assert_eq!(flat.triangles.len(), 192 + 2);
+        for ray in rays(4000, 1, true) {
+            let expected = brute_force(&expanded.triangles, &ray);
+            let got = flat.trace(&ray, false);
+            assert_eq!(
+                (got.t.to_bits(), got.prim, got.u.to_bits(), got.v.to_bits()),
+                (expected.t.to_bits(), expected.prim, expected.u.to_bits(), expected.v.to_bits()),
+                "{}: {ray:?}",
+                layout.name()
+            );
+        }
     }
+}
+
+/// The multi-order levels hold six orders of each tree (the instances say where a mesh's
+/// start) and, walked near-first in the order of the ray's direction in each level's space,
+/// visit fewer nodes than the threaded levels for the same hits.
+#[test]
+fn multi_order_levels_walk_each_copy_in_the_order_of_its_own_space() {
+    let scene = turned_scene();
+    let threaded = two_level_in(&scene, LayoutKind::Threaded);
+    let multi = two_level_in(&scene, LayoutKind::MultiOrder);
+    assert_eq!(multi.node_count(), 6 * threaded.node_count());
+    // Six orders of the top level from index 0, then six of each mesh's tree from its root.
+    assert_eq!(threaded.push().top_order_nodes, 0);
+    let mut meshes: Vec<(u32, u32)> = multi.nodes.instances().iter().map(|i| (i.root, i.order_nodes)).collect();
+    meshes.sort();
+    meshes.dedup();
+    assert_eq!(meshes.len(), 3, "two meshes and the ground");
+    let top = multi.push().top_order_nodes;
+    assert_eq!(meshes[0].0, 6 * top);
+    assert_eq!(6 * (top + meshes.iter().map(|m| m.1).sum::<u32>()) as usize, multi.node_count());
+    for (a, b) in threaded.nodes.instances().iter().zip(multi.nodes.instances()) {
+        assert_eq!((a.order_nodes, a.prim_base, a.shading_base), (0, b.prim_base, b.shading_base));
+        assert!(b.order_nodes > 0);
+    }
+    let (mut nodes_threaded, mut nodes_multi) = (0u64, 0u64);
+    for ray in rays(4000, 12, false) {
+        let (a, b) = (threaded.trace(&ray, false), multi.trace(&ray, false));
+        assert_eq!((a.t.to_bits(), a.prim), (b.t.to_bits(), b.prim), "{ray:?}");
+        nodes_threaded += u64::from(a.nodes_visited);
+        nodes_multi += u64::from(b.nodes_visited);
+    }
+    assert!(nodes_multi < nodes_threaded, "multi-order {nodes_multi} nodes against threaded {nodes_threaded}");
 }
 
 #[test]
 fn turned_scaled_and_mirrored_copies_hit_as_the_expanded_scene() {
     let scene = turned_scene();
-    let flat = two_level(&scene);
-    let (mut hits, mut same) = (0, 0);
     let expanded = scene.expanded().unwrap();
+    for layout in LAYOUTS {
+        turned_copies_hit_as_expanded(&two_level_in(&scene, layout), &expanded);
+    }
+}
+
+fn turned_copies_hit_as_expanded(flat: &vkrt::accel::FlatBvh, expanded: &Scene) {
+    let (mut hits, mut same) = (0, 0);
     for ray in rays(6000, 2, false) {
         let expected = brute_force(&expanded.triangles, &ray);
         let got = flat.trace(&ray, false);
@@ -183,15 +229,17 @@ fn turned_scaled_and_mirrored_copies_hit_as_the_expanded_scene() {
 fn the_gpu_walk_matches_its_cpu_twin_bit_for_bit() {
     let ctx = common::gpu_context();
     for (name, scene, grid) in [("translated", translated_scene(), true), ("turned", turned_scene(), false)] {
-        let flat = two_level(&scene);
-        let gpu = GpuBvh::upload(&ctx, &flat).unwrap();
-        assert!(gpu.instances.is_some());
-        let rays = rays(4096, 4, grid);
-        for any_hit in [false, true] {
-            let hits = trace_rays(&ctx, &gpu, &rays, any_hit).unwrap();
-            for (ray, got) in rays.iter().zip(&hits) {
-                let expected: GpuHit = flat.trace(ray, any_hit);
-                assert_eq!(*got, expected, "{name}, any_hit {any_hit}: {ray:?}");
+        for layout in LAYOUTS {
+            let flat = two_level_in(&scene, layout);
+            let gpu = GpuBvh::upload(&ctx, &flat).unwrap();
+            assert_eq!((gpu.instance_count as usize, gpu.layout), (flat.nodes.instances().len(), layout));
+            let rays = rays(4096, 4, grid);
+            for any_hit in [false, true] {
+                let hits = trace_rays(&ctx, &gpu, &rays, any_hit).unwrap();
+                for (ray, got) in rays.iter().zip(&hits) {
+                    let expected: GpuHit = flat.trace(ray, any_hit);
+                    assert_eq!(*got, expected, "{name}, {}, any_hit {any_hit}: {ray:?}", layout.name());
+                }
             }
         }
     }
@@ -231,8 +279,10 @@ fn write_yaml_scene(dir: &std::path::Path) -> std::path::PathBuf {
     path
 }
 
-/// `vkrt trace` walks a scene's instances through the two-level BVH unless another layout is
-/// asked for, and hits what the expanded scene's walk hits; `vkrt bvh` adds its row.
+/// `vkrt trace` walks a scene's instances through the two-level BVH (multi-order levels, as it
+/// walks a one-level scene in the multi-order layout) unless a layout that takes no two
+/// levels is asked for, and hits what the expanded scene's walk hits; `vkrt bvh` adds a row
+/// for each two-level layout asked for.
 #[test]
 fn trace_and_bvh_commands_take_instanced_scenes() {
     use vkrt::bvh::BuilderKind;
@@ -251,13 +301,13 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
         (report, read_hits(&output).unwrap())
     };
     let (two, two_hits) = trace(None, "two-level.npy");
-    let (one, one_hits) = trace(Some(vkrt::accel::LayoutKind::MultiOrder), "expanded.npy");
+    let (one, one_hits) = trace(Some(LayoutKind::Compact), "expanded.npy");
     assert_eq!(two.hits, one.hits);
     assert!(two.hits > 1000, "{two:?}");
     let same = two_hits.iter().zip(&one_hits).filter(|(a, b)| a.prim == b.prim).count();
     assert!(same as f64 >= 0.999 * rays.len() as f64, "{same} of {} on the same triangle", rays.len());
-    // Same counters as the CPU twin of the two-level walk, so it was that walk.
-    let flat = two_level(&scene);
+    // Same counters as the CPU twin of the multi-order two-level walk, so it was that walk.
+    let flat = two_level_in(&scene, LayoutKind::MultiOrder);
     let nodes: u64 = rays.iter().map(|r| u64::from(flat.trace(r, false).nodes_visited)).sum();
     assert_eq!(two.nodes_visited, nodes);
 
@@ -271,18 +321,22 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
         heatmap_builder: BuilderKind::Sah,
         heatmap_layout: vkrt::accel::LayoutKind::Threaded,
         builders: vec![BuilderKind::Sah],
-        layouts: vec![vkrt::accel::LayoutKind::Threaded],
+        layouts: vec![LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::Wide],
         device: vkrt::cli::DeviceArgs { device: None },
     };
     let ctx = common::gpu_context();
     let rows = vkrt::cli::bvh::scene_rows(&ctx, &scene_path, &scene, &args).unwrap();
-    assert_eq!(rows.iter().map(|r| r.layout_name()).collect::<Vec<_>>(), ["threaded", "two-level-threaded"]);
-    let counts = rows[1].two_level.unwrap();
-    assert_eq!((counts.instances, counts.meshes), (9, 3), "eight copies and the ground; two meshes and the ground");
-    assert_eq!(counts.bottom_triangles, 108 + 320 + 2);
-    assert!(rows[1].bytes < rows[0].bytes, "{} bytes against {}", rows[1].bytes, rows[0].bytes);
+    let names = ["threaded", "multi-order", "wide", "two-level-threaded", "two-level-multi-order"];
+    assert_eq!(rows.iter().map(|r| r.layout_name()).collect::<Vec<_>>(), names);
+    for (two, one) in [(3, 0), (4, 1)] {
+        let counts = rows[two].two_level.unwrap();
+        assert_eq!((counts.instances, counts.meshes), (9, 3), "eight copies and the ground; two meshes and the ground");
+        assert_eq!(counts.bottom_triangles, 108 + 320 + 2);
+        assert!(rows[two].bytes < rows[one].bytes, "{} bytes against {}", rows[two].bytes, rows[one].bytes);
+    }
     let table = vkrt::cli::bvh::format_rows(&rows, vkrt::cli::bvh::Format::Table, "dev");
-    assert!(table.contains("9 instances of 3 meshes; top level 17 nodes"), "{table}");
+    assert!(table.contains("two-level-threaded: 9 instances of 3 meshes; top level 17 nodes"), "{table}");
+    assert!(table.contains("two-level-multi-order: 9 instances of 3 meshes; top level 102 nodes"), "{table}");
 }
 
 /// Whitted and path renders of a scene with instances: through the two-level BVH (the
@@ -390,6 +444,31 @@ fn instanced_mirrors_and_casters_are_found_as_in_the_expanded_scene() {
     assert!((sum(&a) - sum(&b)).abs() <= 0.02 * sum(&b), "{} against {}", sum(&a), sum(&b));
 }
 
+/// Renders through multi-order levels see what threaded levels see: the same closest hits
+/// (but for which of two triangles an edge goes to), so the same images but for such pixels.
+#[test]
+fn multi_order_levels_render_the_threaded_levels_images() {
+    let scene = lit(turned_scene());
+    let ctx = common::gpu_context();
+    let settings = vkrt::integrator::RenderSettings { width: 64, height: 48, spp: 1, ..Default::default() };
+    let path = common::path_settings(64, 48, 16);
+    let images: Vec<_> = LAYOUTS
+        .iter()
+        .map(|&layout| {
+            let gpu = common::upload_with(&ctx, &scene, &PrepareOptions { layout, ..PrepareOptions::default() });
+            assert_eq!((gpu.bvh.layout, gpu.bvh.instance_count), (layout, 37));
+            let whitted = vkrt::integrator::whitted::render(&ctx, &gpu, &settings, &mut |_, _| {}).unwrap().0;
+            (whitted, common::render_path_on(&ctx, &gpu, &path).image())
+        })
+        .collect();
+    common::assert_no_validation_messages(&ctx);
+    for (name, a, b) in [("Whitted", &images[0].0, &images[1].0), ("path", &images[0].1, &images[1].1)] {
+        assert!(a.pixels.iter().any(|p| p[0] > 0.0), "{name}: black");
+        let same = a.pixels.iter().zip(&b.pixels).filter(|(x, y)| x == y).count();
+        assert!(same as f64 >= 0.98 * a.pixels.len() as f64, "{name}: {same} of {} pixels the same", a.pixels.len());
+    }
+}
+
 /// Two cubes moved by whole numbers so that they share a face: rays from inside either, aimed
 /// exactly at the seam's outer edges and corners (x = 1 on the boundary of the square |y|,
 /// |z| <= 1), hit a face at or before the seam; none slips out between the copies. (Under exact
@@ -401,8 +480,14 @@ fn rays_at_the_seam_of_abutting_copies_never_slip_through() {
     let cube = subdivided_cube(2).to_triangles(1.0, Vec3::ZERO, 0);
     let mut scene = Scene::default();
     add_group(&mut scene, &cube, vec![translation(0.0, 0.0, 0.0), translation(2.0, 0.0, 0.0)]);
-    let flat = two_level(&scene);
-    assert_eq!(flat.nodes.instances().len(), 2);
+    for layout in LAYOUTS {
+        let flat = two_level_in(&scene, layout);
+        assert_eq!(flat.nodes.instances().len(), 2);
+        seam_rays_stay_in(&flat);
+    }
+}
+
+fn seam_rays_stay_in(flat: &vkrt::accel::FlatBvh) {
     let mut rng = Pcg32::new(11);
     for k in 0..4000 {
         let r = [-1.0f32, -0.5, 0.0, 0.5, 1.0][k % 5];
@@ -449,7 +534,7 @@ fn normal_mapped_copies_shade_as_the_expanded_ones() {
 
 /// More triangles than a one-level tree takes (2^28): 900 copies of a 327,680-triangle sphere,
 /// 295 M triangles, held as one mesh. The scene loads and renders through the two-level BVH;
-/// a one-level layout is refused with the count and the layout that walks it.
+/// a one-level layout is refused with the count and the layouts that walk it.
 #[test]
 fn copies_past_the_one_level_bound_render_through_the_two_level_bvh_only() {
     let ball = icosphere(7).to_triangles(1.0, Vec3::ZERO, 0);
@@ -460,9 +545,9 @@ fn copies_past_the_one_level_bound_render_through_the_two_level_bvh_only() {
     assert!(scene.placed_triangles() > vkrt::scene::assemble::MAX_PLACED_TRIANGLES);
     let e = scene.expanded().unwrap_err();
     assert!(e.contains("294912002") && e.contains("threaded"), "{e}");
-    let options = PrepareOptions { layout: vkrt::accel::LayoutKind::MultiOrder, ..PrepareOptions::default() };
+    let options = PrepareOptions { layout: LayoutKind::Compact, ..PrepareOptions::default() };
     let e = format!("{:#}", vkrt::prepare::PreparedScene::new(&scene, &options).unwrap_err());
-    assert!(e.contains("multi-order") && e.contains("threaded"), "{e}");
+    assert!(e.contains("compact") && e.contains("threaded and multi-order"), "{e}");
 
     let ctx = common::gpu_context();
     let gpu = common::upload(&ctx, &scene);

@@ -25,6 +25,12 @@ node_array!(MultiOrder, GpuNode, LayoutKind::MultiOrder, "The multi-order node a
 
 /// The six orders, concatenated: order `o` occupies `o * n .. (o + 1) * n` for n tree nodes.
 pub fn flatten(bvh: &Bvh) -> Vec<GpuNode> {
+    orders(bvh, 0)
+}
+
+/// [`flatten`]'s six orders with their escape links offset by `base`, where the array will
+/// start in a concatenation (a two-level BVH's levels, `two_level`).
+pub fn orders(bvh: &Bvh, base: u32) -> Vec<GpuNode> {
     let n = bvh.nodes.len();
     let mut out = Vec::with_capacity(ORDERS * n);
     for order in 0..ORDERS {
@@ -40,7 +46,7 @@ pub fn flatten(bvh: &Bvh) -> Vec<GpuNode> {
                 (right, left)
             }
         };
-        out.extend(threaded(bvh, child_order, (order * n) as u32));
+        out.extend(threaded(bvh, child_order, base + (order * n) as u32));
     }
     out
 }

@@ -2,7 +2,11 @@
 //! space, and a top-level tree over the instances' world boxes, whose leaves each name one
 //! instance ([`GpuInstance`]: world-to-object rows, the mesh tree's root, the copy's first
 //! primitive id). Both levels are threaded arrays (Smits 1998), in one node array: the top
-//! level from index 0, then each mesh's tree, whose escape links end in NODE_NONE.
+//! level from index 0, then each mesh's tree, whose escape links end in NODE_NONE. They are
+//! laid out in one of [`LAYOUTS`]: the threaded layout's single order, or the multi-order
+//! layout's six near-first orders per tree (`multi_order`), in which a ray takes the top
+//! level's order of its world direction and each mesh's order of its object-space direction
+//! (a turned copy's dominant axis is another), one multiply-add per level entered.
 //!
 //! The walk stays stackless with O(1) more state than the one-level walk: at a top-level leaf
 //! the ray goes into object space (its direction not renormalised, so t, tmin and tmax keep
@@ -23,12 +27,13 @@ use glam::{Mat4, Vec3};
 
 use super::intersect::{intersect_box, RayPre};
 use super::leaf::{leaf_count, miss, test_leaf};
+use super::multi_order::{self, ray_order};
 use super::threaded::threaded;
 use super::{FlatBvh, LayoutKind, NodeArray, MAX_FLAT_TRIANGLES};
 use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::{INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
-use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuRay, GpuTriangle};
+use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuPush, GpuRay, GpuTriangle};
 use crate::scene::instance::{placed_box, Placement};
 use crate::scene::Scene;
 
@@ -46,11 +51,21 @@ pub struct TwoLevel {
     /// The top-level tree's SAH cost (`bvh::stats`), in its own units: the bottom levels'
     /// boxes are in object space, so no cost adds the two.
     pub top_sah: f32,
+    /// The layout both levels are in (one of [`LAYOUTS`]).
+    pub layout: LayoutKind,
+    /// Nodes per order of the top level in the multi-order layout; 0 in the threaded one
+    /// (`GpuPush::top_order_nodes`).
+    pub top_order_nodes: u32,
 }
+
+/// The layouts a two-level BVH's levels can be laid out in: those whose walk starts at a
+/// node index and runs to NODE_NONE with no state but the index, so that the walk can enter
+/// a mesh's tree and come back to the top level with O(1) state.
+pub const LAYOUTS: [LayoutKind; 2] = [LayoutKind::Threaded, LayoutKind::MultiOrder];
 
 impl NodeArray for TwoLevel {
     fn kind(&self) -> LayoutKind {
-        LayoutKind::Threaded
+        self.layout
     }
     fn bytes(&self) -> &[u8] {
         bytemuck::cast_slice(&self.nodes)
@@ -59,7 +74,10 @@ impl NodeArray for TwoLevel {
         self.nodes.len()
     }
     fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
-        trace(&self.nodes, tris, &self.instances, ray, any_hit)
+        trace(&self.nodes, self.top_order_nodes, tris, &self.instances, ray, any_hit)
+    }
+    fn fill_push(&self, push: &mut GpuPush) {
+        push.top_order_nodes = self.top_order_nodes;
     }
     fn instances(&self) -> &[GpuInstance] {
         &self.instances
@@ -96,10 +114,21 @@ pub fn meshes(scene: &Scene) -> Vec<Mesh> {
     meshes
 }
 
-/// Builds the two-level BVH of `meshes` ([`meshes`]): `builder` builds every mesh's tree and
-/// the top-level tree (one instance per leaf, so that a leaf names its instance). Returns the
-/// node array and the bottom levels' triangles in leaf order, object space.
-pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig) -> anyhow::Result<(TwoLevel, Vec<GpuTriangle>)> {
+/// A level's tree laid out in `layout` for a node array in which it starts at `base`: its
+/// nodes (every order's) and its nodes per order (0 for the threaded layout's one order).
+fn lay_out(tree: &Bvh, layout: LayoutKind, base: u32) -> (Vec<GpuNode>, u32) {
+    match layout {
+        LayoutKind::MultiOrder => (multi_order::orders(tree, base), tree.nodes.len() as u32),
+        _ => (threaded(tree, |_, l, r| (l, r), base), 0),
+    }
+}
+
+/// Builds the two-level BVH of `meshes` ([`meshes`]) in `layout` (one of [`LAYOUTS`]):
+/// `builder` builds every mesh's tree and the top-level tree (one instance per leaf, so that a
+/// leaf names its instance). Returns the node array and the bottom levels' triangles in leaf
+/// order, object space.
+pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig, layout: LayoutKind) -> anyhow::Result<(TwoLevel, Vec<GpuTriangle>)> {
+    anyhow::ensure!(LAYOUTS.contains(&layout), "a two-level BVH is laid out as {}; not as {}", LAYOUTS.map(|l| l.name()).join(" or "), layout.name());
     let triangle_total: usize = meshes.iter().map(|m| m.positions.len()).sum();
     anyhow::ensure!(triangle_total <= MAX_FLAT_TRIANGLES, "the meshes have {triangle_total} triangles; the flat layouts address at most {MAX_FLAT_TRIANGLES}");
 
@@ -129,7 +158,7 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig) -> any
     // The top level: one instance per leaf.
     let centroids: Vec<Vec3> = world_boxes.iter().map(|b| b.center()).collect();
     let top = bvh::build(builder, &world_boxes, &centroids, &BuildConfig { max_leaf_size: 1, ..*config });
-    let mut nodes = threaded(&top, |_, l, r| (l, r), 0);
+    let (mut nodes, top_order_nodes) = lay_out(&top, layout, 0);
     for n in nodes.iter_mut().filter(|n| leaf_count(n.leaf) != 0) {
         let first = (n.leaf >> LEAF_COUNT_BITS) as usize;
         n.leaf = (top.prim_indices[first] << LEAF_COUNT_BITS) | 1;
@@ -139,15 +168,20 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig) -> any
 
     // Every mesh's tree after it, its leaves' triangles after the meshes before it.
     let mut roots = Vec::with_capacity(meshes.len());
+    let mut order_nodes = Vec::with_capacity(meshes.len());
     let mut shading_bases = Vec::with_capacity(meshes.len());
     let mut triangles = Vec::with_capacity(triangle_total);
     for (m, tree) in meshes.iter().zip(&trees) {
         // The meshes' shading data is in the same order, a block each.
         shading_bases.push(triangles.len() as u32);
-        let base = u32::try_from(nodes.len()).map_err(|_| anyhow::anyhow!("the two-level BVH has more than 2^32 nodes"))?;
+        let too_many = || anyhow::anyhow!("the two-level BVH has more than 2^32 nodes");
+        let base = u32::try_from(nodes.len()).map_err(|_| too_many())?;
+        let (tree_nodes, per_order) = lay_out(tree, layout, base);
+        u32::try_from(nodes.len() + tree_nodes.len()).map_err(|_| too_many())?;
         roots.push(base);
+        order_nodes.push(per_order);
         let tri_base = triangles.len() as u32;
-        nodes.extend(threaded(tree, |_, l, r| (l, r), base).into_iter().map(|mut n| {
+        nodes.extend(tree_nodes.into_iter().map(|mut n| {
             if leaf_count(n.leaf) != 0 {
                 n.leaf += tri_base << LEAF_COUNT_BITS;
             }
@@ -169,10 +203,14 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig) -> any
                 prim_base,
                 flags: if mirrored { INSTANCE_MIRRORED } else { 0 },
                 shading_base: shading_bases[mesh],
+                order_nodes: order_nodes[mesh],
+                _pad0: 0,
+                _pad1: 0,
+                _pad2: 0,
             }
         })
         .collect();
-    Ok((TwoLevel { nodes, top_nodes, instances, meshes: meshes.len(), top_sah }, triangles))
+    Ok((TwoLevel { nodes, top_nodes, instances, meshes: meshes.len(), top_sah, layout, top_order_nodes }, triangles))
 }
 
 impl TwoLevel {
@@ -213,13 +251,15 @@ pub fn object_ray(instance: &GpuInstance, ray: &GpuRay) -> GpuRay {
 }
 
 /// `traverse` in traverse_two_level.glsl: the closest hit (or with `any_hit` the first found)
-/// through both levels.
-pub fn trace(nodes: &[GpuNode], tris: &[GpuTriangle], instances: &[GpuInstance], ray: &GpuRay, any_hit: bool) -> GpuHit {
+/// through both levels, whose top level has `top_order_nodes` nodes per order (0: one order).
+pub fn trace(nodes: &[GpuNode], top_order_nodes: u32, tris: &[GpuTriangle], instances: &[GpuInstance], ray: &GpuRay, any_hit: bool) -> GpuHit {
     let world = RayPre::new(ray);
     let mut r = world;
     let mut hit = miss();
     let mut tmax = ray.tmax;
-    let mut index = if nodes.is_empty() { NODE_NONE } else { 0 };
+    // The order of the ray's dominant direction, of which a threaded level has only one.
+    let order = |r: &RayPre, ray: &GpuRay| ray_order(r, ray) as u32;
+    let mut index = if nodes.is_empty() { NODE_NONE } else { top_order_nodes * order(&world, ray) };
     // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
     let mut in_object = false;
     let mut resume = NODE_NONE;
@@ -243,8 +283,9 @@ pub fn trace(nodes: &[GpuNode], tris: &[GpuTriangle], instances: &[GpuInstance],
         }
         if !in_object {
             let Some(instance) = instances.get((node.leaf >> LEAF_COUNT_BITS) as usize) else { break };
-            r = RayPre::new(&object_ray(instance, ray));
-            (resume, index, in_object) = (node.escape, instance.root, true);
+            let object = object_ray(instance, ray);
+            r = RayPre::new(&object);
+            (resume, index, in_object) = (node.escape, instance.root + instance.order_nodes * order(&r, &object), true);
             (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
             continue;
         }

@@ -1,8 +1,9 @@
 //! `vkrt bvh`: every builder x layout on each scene: build time, nodes, bytes, SAH cost, and for
 //! primary, shadow and diffuse-bounce rays the measured nodes visited and triangles tested per
 //! ray (the GPU's counters) and rays/s on the GPU. `--heatmap` draws nodes visited per pixel.
-//! A scene with instances gets a row per builder for its two-level BVH too (`two-level-threaded`,
-//! `accel::two_level`), and the table a line per such row with each level's counts.
+//! A scene with instances gets a row per builder and two-level layout for its two-level BVH too
+//! (`two-level-threaded`, `two-level-multi-order`: `accel::two_level`), and the table a line
+//! per such row with each level's counts.
 
 use crate::accel::two_level::{self, LevelCounts};
 use crate::accel::{self, LayoutKind};
@@ -91,13 +92,14 @@ pub struct Row {
     pub primary: RayStats,
     pub shadow: RayStats,
     pub diffuse: RayStats,
-    /// A scene with instances also gets a row for its two-level BVH (`accel::two_level`, both
-    /// levels threaded): `nodes` and `bytes` are both levels', `sah` the top level's.
+    /// A scene with instances also gets a row for its two-level BVH in each layout that lays
+    /// one out (`accel::two_level::LAYOUTS`): `nodes` and `bytes` are both levels' (every
+    /// order's), `sah` the top level's.
     pub two_level: Option<LevelCounts>,
 }
 
 impl Row {
-    /// The layout column: the layout's name, or `two-level-threaded`.
+    /// The layout column: the layout's name, or `two-level-` and it.
     pub fn layout_name(&self) -> String {
         match self.two_level {
             Some(_) => format!("two-level-{}", self.layout.name()),
@@ -137,7 +139,7 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
     // one-level tree takes gets its two-level rows only.
     let expanded = match scene.expanded() {
         Ok(e) => Some(e),
-        Err(e) if walks_two_levels(scene, LayoutKind::Threaded) => {
+        Err(e) if layouts.iter().any(|&l| walks_two_levels(scene, l)) => {
             eprintln!("vkrt bvh: {name}: only the two-level rows: {e}");
             None
         }
@@ -204,20 +206,29 @@ pub fn scene_rows(ctx: &Context, path: &Path, scene: &Scene, args: &BvhArgs) -> 
                 });
             }
         }
-        if layouts.contains(&LayoutKind::Threaded) && walks_two_levels(scene, LayoutKind::Threaded) {
-            rows.push(two_level_row(ctx, &name, scene, builder, args, [&primary, &shadow, &diffuse])?);
+        for &layout in layouts.iter().filter(|&&l| walks_two_levels(scene, l)) {
+            rows.push(two_level_row(ctx, &name, scene, builder, layout, args, [&primary, &shadow, &diffuse])?);
         }
     }
     Ok(rows)
 }
 
-/// The row of a scene's two-level BVH built by `builder`, on the same ray sets.
-fn two_level_row(ctx: &Context, name: &str, scene: &Scene, builder: BuilderKind, args: &BvhArgs, [primary, shadow, diffuse]: [&[GpuRay]; 3]) -> Result<Row> {
+/// The row of a scene's two-level BVH built by `builder` in `layout`, on the same ray sets.
+#[allow(clippy::too_many_arguments)]
+fn two_level_row(
+    ctx: &Context,
+    name: &str,
+    scene: &Scene,
+    builder: BuilderKind,
+    layout: LayoutKind,
+    args: &BvhArgs,
+    [primary, shadow, diffuse]: [&[GpuRay]; 3],
+) -> Result<Row> {
     let mut build_ms = f64::INFINITY;
     let mut built = None;
     for _ in 0..args.repeat.max(1) {
         let t = Instant::now();
-        built = Some(two_level::build(&two_level::meshes(scene), builder, &BuildConfig::default())?);
+        built = Some(two_level::build(&two_level::meshes(scene), builder, &BuildConfig::default(), layout)?);
         build_ms = build_ms.min(t.elapsed().as_secs_f64() * 1e3);
     }
     let (nodes, triangles) = built.ok_or_else(|| anyhow!("no two-level build"))?;
@@ -230,7 +241,7 @@ fn two_level_row(ctx: &Context, name: &str, scene: &Scene, builder: BuilderKind,
         scene: name.to_string(),
         triangles: scene.placed_triangles() as usize,
         builder,
-        layout: LayoutKind::Threaded,
+        layout,
         build_ms,
         nodes: flat.node_count(),
         bytes: flat.bytes(),

@@ -8,7 +8,7 @@ use crate::gpu::TexelFormat;
 use crate::gpu_abi::constants::PRIM_NONE;
 use crate::gpu_abi::GpuNode;
 use crate::output::npy::{HitWriter, RayReader};
-use crate::prepare::{build_bvh, build_two_level, walks_two_levels, GpuBvh, PrepareOptions};
+use crate::prepare::{build_walk, GpuBvh, PrepareOptions};
 use crate::query::{RayOrder, RayQuery};
 use anyhow::{Context as _, Result};
 use clap::Args;
@@ -34,9 +34,10 @@ pub struct TraceArgs {
     pub builder: BuilderKind,
     /// BVH layout the shader walks [default: multi-order, the fastest measured on both camera
     /// and incoherent rays (BENCHMARKS.md); threaded where six orders of the tree might not fit
-    /// the device's texel buffers; for a scene with `Instances`, a two-level BVH of threaded
-    /// levels, one copy of each mesh (threaded names it too; another layout walks the copies
-    /// expanded)].
+    /// the device's texel buffers. A scene with instances (the lab YAML's `Instances`, glTF
+    /// meshes placed more than once) is walked through a two-level BVH, one tree per mesh
+    /// under a tree of instances, in multi-order or threaded levels; another layout walks the
+    /// copies expanded].
     #[arg(long, value_enum)]
     pub layout: Option<LayoutKind>,
     /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
@@ -75,7 +76,8 @@ pub struct TraceReport {
 /// rays/s, medians of 5 alternating rounds, BENCHMARKS.md), as long as its six orders of the
 /// tree fit one texel buffer of the device (`max_texel_buffer_elements` 16-byte texels): a
 /// binary tree over `triangles` has at most 2 triangles - 1 nodes. Beyond that (about 5.6 M
-/// triangles on lavapipe) threaded, which needs a sixth of it.
+/// triangles on lavapipe) threaded, which needs a sixth of it. For a two-level BVH `triangles`
+/// is [`tree_items`]' count.
 pub fn default_layout(triangles: usize, max_texel_buffer_elements: u32) -> LayoutKind {
     let texels_per_node = (std::mem::size_of::<GpuNode>() as u64).div_ceil(TexelFormat::Rgba32Uint.bytes());
     let worst_nodes = 2 * triangles.max(1) as u64 - 1;
@@ -86,20 +88,32 @@ pub fn default_layout(triangles: usize, max_texel_buffer_elements: u32) -> Layou
     }
 }
 
+/// What bounds the nodes of the BVH `vkrt trace` walks for `triangles` triangles of a one-level
+/// BVH, or a two-level BVH's `triangles` (each mesh's once) and `instances`: its trees hold at
+/// most 2 n - 1 nodes over n items each, so at most 2 (triangles + instances) - 1 in all.
+pub fn tree_items(triangles: usize, instances: usize) -> usize {
+    triangles + instances
+}
+
 pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let mut reader = RayReader::open(&args.rays)?;
     let scene = crate::scene::load_scene(&args.scene)?;
     let ctx = args.device.context()?;
-    // A scene with instances walks its two-level BVH, whose levels are threaded, unless another
-    // layout is asked for: that walks the expanded copies.
+    // A scene with instances walks its two-level BVH in the threaded and multi-order layouts
+    // (the others walk the expanded copies).
     let layout = match args.layout {
         Some(l) => l,
-        None if !scene.instances.is_empty() => LayoutKind::Threaded,
-        None => default_layout(scene.triangles.len(), ctx.info.max_texel_buffer_elements),
+        None => {
+            let instances = scene.instances.iter().map(|g| g.placements.len()).sum::<usize>();
+            let meshes = scene.instances.iter().map(|g| g.mesh.len()).sum::<usize>();
+            // The scene's own triangles, if any, are one more instance of a two-level BVH.
+            let own = usize::from(!scene.triangles.is_empty());
+            let items = if instances == 0 { scene.triangles.len() } else { tree_items(scene.triangles.len() + meshes, instances + own) };
+            default_layout(items, ctx.info.max_texel_buffer_elements)
+        }
     };
-    let two_level = walks_two_levels(&scene, layout);
     let options = PrepareOptions { builder: args.builder, layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
-    let (flat, build_times) = if two_level { build_two_level(&scene, &options)? } else { build_bvh(&scene, &options)? };
+    let (flat, build_times) = build_walk(&scene, &options)?;
     let walk = super::walk_name(layout, flat.nodes.instances().len());
     let bvh = GpuBvh::upload(&ctx, &flat)?;
     let mut query = RayQuery::new(&ctx, &bvh)?;

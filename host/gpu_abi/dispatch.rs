@@ -75,6 +75,13 @@ gpu_structs! {
         /// loop for SPEC_LIST_TRIANGLES, which the pipelines set to this count).
         pub list_first: u32,
         pub list_count: u32,
+        /// A two-level BVH laid out in the multi-order layout (`crate::accel::two_level`):
+        /// nodes per order of its top level (order `k` starts at `k * top_order_nodes`); 0 for
+        /// threaded levels and for the one-level layouts.
+        pub top_order_nodes: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 
     /// The path tracer's per-render settings (uniform buffer, std140).
@@ -144,7 +151,7 @@ gpu_structs! {
 }
 
 const _: () = assert!(std::mem::size_of::<GpuFrame>() == 144);
-const _: () = assert!(std::mem::size_of::<GpuPush>() == 80);
+const _: () = assert!(std::mem::size_of::<GpuPush>() == 96);
 const _: () = assert!(std::mem::size_of::<GpuPathParams>() == 64);
 const _: () = assert!(std::mem::size_of::<GpuRay>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuHit>() == 32);

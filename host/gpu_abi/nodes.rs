@@ -104,6 +104,12 @@ gpu_structs! {
         /// Where its mesh's shading data starts (BINDING_SHADING, BINDING_UVS,
         /// BINDING_TANGENTS hold one block per mesh, in object space).
         pub shading_base: u32,
+        /// Nodes per order of the mesh's tree where it is laid out in the multi-order layout's
+        /// six orders (order `k` starts at `root + k * order_nodes`); 0 in the threaded one.
+        pub order_nodes: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 
@@ -112,4 +118,4 @@ const _: () = assert!(std::mem::size_of::<GpuParentNode>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuCompactNode>() == 16);
 const _: () = assert!(std::mem::size_of::<GpuWideNode>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 48);
-const _: () = assert!(std::mem::size_of::<GpuInstance>() == 112);
+const _: () = assert!(std::mem::size_of::<GpuInstance>() == 128);

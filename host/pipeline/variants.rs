@@ -27,7 +27,8 @@ pub struct Shader {
     pub defines: &'static [&'static str],
     /// Built once per BVH layout of `accel::kinds::LAYOUTS`, each with that layout's define,
     /// and (a product shader) once more as `<name>_two_level` with `TWO_LEVEL`, for the
-    /// two-level BVH of a scene with instances (`accel::two_level`, threaded levels);
+    /// two-level BVH of a scene with instances (`accel::two_level`, threaded or multi-order
+    /// levels);
     /// otherwise built once, walking the threaded layout if it traces at all.
     pub per_layout: bool,
     pub role: Role,

@@ -34,7 +34,7 @@ use std::time::Instant;
 use xxhash_rust::xxh3::{xxh3_128, Xxh3};
 
 /// Bumped whenever the file layout or the meaning of a stored array changes.
-pub const CACHE_FORMAT: u32 = 8; // 8: glTF scenes without lights record their default light (LoadStats::default_light); 7: the triangle list (push.list_first, list_count; the tree leaves its triangles out); 6: reinsertion starts from the binned tree (was the sweep's), so its entries differ; 5: light picks store their alias's pmf (was padding); 4: GpuPush grew to 80 bytes
+pub const CACHE_FORMAT: u32 = 9; // 9: GpuPush grew to 96 bytes (top_order_nodes, a multi-order two-level BVH's); 8: glTF scenes without lights record their default light (LoadStats::default_light); 7: the triangle list (push.list_first, list_count; the tree leaves its triangles out); 6: reinsertion starts from the binned tree (was the sweep's), so its entries differ; 5: light picks store their alias's pmf (was padding); 4: GpuPush grew to 80 bytes
 const MAGIC: &[u8; 8] = b"VKRTPREP";
 const HEADER_BYTES: usize = 64;
 /// Arrays start at multiples of this: every GPU struct's alignment divides it.

@@ -211,8 +211,8 @@ impl PreparedScene {
         }
     }
 
-    /// Prepares `scene` as `options` say: a scene with instances walked with the threaded
-    /// layout gets its two-level BVH ([`build_two_level`]), any other scene or layout the
+    /// Prepares `scene` as `options` say: a scene with instances walked with the threaded or
+    /// the multi-order layout gets its two-level BVH ([`build_two_level`]), any other scene or layout the
     /// one-level tree over every triangle ([`build_bvh`]).
     pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
         // Of the scene as loaded: an expanded copy's bounds are its exact ones, a little inside
@@ -303,19 +303,30 @@ fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTrian
 }
 
 /// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the
-/// layout is the threaded one its levels are laid out in (another layout walks the expanded
-/// copies).
+/// layout is one a two-level BVH's levels are laid out in (`accel::two_level::LAYOUTS`:
+/// threaded, multi-order); another layout walks the expanded copies.
 pub fn walks_two_levels(scene: &Scene, layout: LayoutKind) -> bool {
-    !scene.instances.is_empty() && layout == LayoutKind::Threaded
+    !scene.instances.is_empty() && accel::two_level::LAYOUTS.contains(&layout)
+}
+
+/// The BVH a batch query walks for `scene` in `options.layout`: its two-level BVH where it
+/// has one in that layout ([`walks_two_levels`]), else the one-level tree ([`build_bvh`]).
+pub fn build_walk(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
+    if walks_two_levels(scene, options.layout) {
+        build_two_level(scene, options)
+    } else {
+        build_bvh(scene, options)
+    }
 }
 
 /// The two-level BVH of a scene with instances (`accel::two_level`: one tree per mesh, a top
-/// level over the instances), built with `options.builder`, as a [`FlatBvh`] without a triangle
+/// level over the instances), built with `options.builder` in `options.layout` (threaded or
+/// multi-order), as a [`FlatBvh`] without a triangle
 /// list whose node array names its instances: what `vkrt trace`, `vkrt bvh` and the renders
 /// walk for such a scene ([`walks_two_levels`]). The time is all in `tree`.
 pub fn build_two_level(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {
     let clock = std::time::Instant::now();
     let meshes = accel::two_level::meshes(scene);
-    let (nodes, triangles) = accel::two_level::build(&meshes, options.builder, &options.build).context("building the two-level BVH")?;
+    let (nodes, triangles) = accel::two_level::build(&meshes, options.builder, &options.build, options.layout).context("building the two-level BVH")?;
     Ok((nodes.into_flat(triangles), PrepareTimes { tree: clock.elapsed().as_secs_f64(), ..PrepareTimes::default() }))
 }

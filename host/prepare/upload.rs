@@ -32,6 +32,8 @@ pub struct GpuBvh<'a> {
     /// A two-level BVH's instances (BINDING_INSTANCES, `accel::two_level`): `nodes` then holds
     /// both levels, walked by the shaders' `_two_level` builds. None for a one-level BVH.
     pub instances: Option<TexelArray<'a>>,
+    /// How many instances `instances` holds (0 for a one-level BVH).
+    pub instance_count: u32,
 }
 
 impl<'a> GpuBvh<'a> {
@@ -45,6 +47,7 @@ impl<'a> GpuBvh<'a> {
     pub fn with_instances(mut self, ctx: &'a Context, instances: &[GpuInstance]) -> Result<Self> {
         if !instances.is_empty() {
             self.instances = Some(TexelArray::with_data(ctx, "instances", instances, TexelFormat::Rgba32Uint)?);
+            self.instance_count = u32::try_from(instances.len()).context("more than 2^32 instances")?;
         }
         Ok(self)
     }
@@ -66,6 +69,7 @@ impl<'a> GpuBvh<'a> {
             layout,
             push,
             instances: None,
+            instance_count: 0,
         })
     }
 

@@ -21,7 +21,7 @@ use vkrt::cli::render::{view_and_upload, CameraArgs};
 use vkrt::cli::sky::EnvmapArgs;
 use vkrt::gpu_abi::{GpuHit, GpuRay};
 use vkrt::prepare::cache::{prepare_scene, Cache, Storing};
-use vkrt::prepare::{build_bvh, GpuBvh, GpuScene, PrepareOptions, PreparedScene};
+use vkrt::prepare::{build_walk, GpuBvh, GpuScene, PrepareOptions, PreparedScene};
 use vkrt::query::RayQuery;
 use vkrt::scene::{Camera, Light, Material, SceneSummary, Triangle};
 
@@ -232,13 +232,15 @@ impl Scene {
     }
 
     /// The layout `trace` walks: the one asked for, else the scene's if `layout=` was given at
-    /// load or the scene walks its instances through a two-level BVH, else `vkrt trace`'s
-    /// default.
+    /// load, else `vkrt trace`'s default (for a scene with instances, of its two-level BVH).
     fn trace_layout(&self, layout: Option<&str>) -> Result<LayoutKind> {
+        use vkrt::cli::trace::{default_layout, tree_items};
+        let bvh = &self.gpu.bvh;
+        let items = if bvh.instances.is_some() { tree_items(bvh.triangle_count as usize, bvh.instance_count as usize) } else { self.summary.triangles };
         Ok(match layout {
             Some(n) => layout_named(n)?,
-            None if self.layout_given || self.gpu.bvh.instances.is_some() => self.options.layout,
-            None => vkrt::cli::trace::default_layout(self.summary.triangles, self.device.ctx.info.max_texel_buffer_elements),
+            None if self.layout_given => self.options.layout,
+            None => default_layout(items, self.device.ctx.info.max_texel_buffer_elements),
         })
     }
 
@@ -264,7 +266,7 @@ impl Scene {
                 Tracer { query: RayQuery::new(ctx, &self.gpu.bvh)?, _own_bvh: None, layout }
             } else {
                 let scene = self.cpu_scene()?;
-                let (flat, _) = build_bvh(&scene, &PrepareOptions { layout, ..self.options })?;
+                let (flat, _) = build_walk(&scene, &PrepareOptions { layout, ..self.options })?;
                 let bvh = GpuBvh::upload(ctx, &flat)?;
                 Tracer { query: RayQuery::new(ctx, &bvh)?, _own_bvh: Some(bvh), layout }
             };

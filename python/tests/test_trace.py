@@ -109,7 +109,7 @@ def test_bvh_stats_is_a_table_of_builders_by_layouts(cornell):
 def test_an_instanced_scene_traces_its_two_level_bvh_by_default_as_vkrt_trace(cli, tmp_path):
     """Copies of a mesh (the lab YAML's `Instances`) are walked through the two-level BVH by
     default, as `vkrt trace` walks them: the same hits bit for bit, and the same triangles as
-    the copies placed one by one (`layout="multi-order"`), to rounding."""
+    the copies placed one by one (`layout="compact"`, a layout of one level), to rounding."""
     (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     transforms = "".join(f"      - {{Translation: [{2 * x}, {2 * y}, 0], Rotation: [0, 0, {10 * x}]}}\n" for x in range(4) for y in range(4))
     yaml = f"Materials:\n  - Name: m\nInstances:\n  - Mesh: tri.obj\n    Material: m\n    Transforms:\n{transforms}"
@@ -125,7 +125,7 @@ def test_an_instanced_scene_traces_its_two_level_bvh_by_default_as_vkrt_trace(cl
     expected = np.load(tmp_path / "hits.npy")
     for key in ("t", "prim", "u", "v"):
         np.testing.assert_array_equal(hits[key], expected[key], err_msg=key)
-    placed = scene.trace(origins, directions, layout="multi-order")
+    placed = scene.trace(origins, directions, layout="compact")
     assert 0.1 < (hits["prim"] != 0xFFFFFFFF).mean() < 0.9
     # The turned copies' edges round differently in object space: a ray may graze past one.
     assert (hits["prim"] == placed["prim"]).mean() >= 0.995

@@ -254,9 +254,10 @@ def _trace(
     they are views of one record array (strided), made without a copy.
 
     ``layout``: the BVH layout to walk (``LAYOUTS``); default the scene's if ``load_scene`` was
-    given one, else ``vkrt trace``'s default (for copies of a mesh, the lab YAML's
-    ``Instances`` or a glTF mesh placed more than once: their two-level BVH). The same bits as ``vkrt trace`` for every builder
-    and layout. Raises ``ValueError`` for wrong shapes and non-finite or zero rays.
+    given one, else ``vkrt trace``'s default (copies of a mesh, the lab YAML's ``Instances``
+    or a glTF mesh placed more than once, are walked through their two-level BVH in the
+    threaded and multi-order layouts). The same bits as ``vkrt trace`` for every builder and
+    layout. Raises ``ValueError`` for wrong shapes and non-finite or zero rays.
     """
     if directions is None:
         if np.ndim(origins) == 2 and np.shape(origins)[1] == 3:

@@ -55,6 +55,10 @@ struct GpuInstance {
     uint prim_base;
     uint flags;
     uint shading_base;
+    uint order_nodes;
+    uint _pad0;
+    uint _pad1;
+    uint _pad2;
 };
 
 struct GpuShading {
@@ -172,6 +176,10 @@ struct GpuPush {
     uint probe;
     uint list_first;
     uint list_count;
+    uint top_order_nodes;
+    uint _pad0;
+    uint _pad1;
+    uint _pad2;
 };
 
 struct GpuRay {

@@ -16,6 +16,13 @@ GpuNode load_node(uint i) {
     return GpuNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
 }
 
+// The multi-order layout's order for a ray of direction `dir` (r = ray_pre of it): that of its
+// largest |direction| component (the shear axis kz) and its sign. CPU twin:
+// accel::multi_order::ray_order.
+uint ray_order(RayPre r, vec3 dir) {
+    return 2u * uint(r.kz) + (dir[r.kz] < 0.0 ? 1u : 0u);
+}
+
 Hit traverse_threaded_from(uint start, RayPre r, float tmax, bool any_hit) {
     Hit hit = hit_none();
     const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;

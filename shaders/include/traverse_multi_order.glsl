@@ -6,10 +6,8 @@
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin, tmax);
-    // The order of the largest |direction| component and its sign (the shear axis kz).
-    uint order = 2u * uint(r.kz) + (dir[r.kz] < 0.0 ? 1u : 0u);
     uint per_order = node_count() / 6u;
-    return traverse_threaded_from(order * per_order, r, tmax, any_hit);
+    return traverse_threaded_from(ray_order(r, dir) * per_order, r, tmax, any_hit);
 }
 
 #endif

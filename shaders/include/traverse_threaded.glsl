@@ -5,7 +5,9 @@
 #include "threaded_walk.glsl"
 
 #ifdef TWO_LEVEL
-// Instanced meshes under a top level (vkrt trace on a scene with instances).
+// Instanced meshes under a top level (accel::two_level), the levels in the threaded or the
+// multi-order layout: one build walks both, since the orders are data (the instances' and the
+// push constants' nodes per order, 0 for one order).
 #include "traverse_two_level.glsl"
 #else
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {

@@ -1,6 +1,8 @@
 // The two-level walk over instanced meshes (the `_two_level` build of every tracing shader,
 // TWO_LEVEL): a threaded top level over the instances' world boxes, whose leaves each name an
-// instance, and a threaded tree per mesh in object space, all in one node array.
+// instance, and a threaded tree per mesh in object space, all in one node array; each level in
+// one order (the threaded layout) or in the multi-order layout's six, of which the ray takes
+// the top level's for its world direction and a mesh's for its object-space direction.
 // CPU twin: accel::two_level::trace (host/accel/two_level.rs), which says why it is built so.
 //
 // Stackless with O(1) more state than the threaded walk: at a top-level leaf the ray goes into
@@ -19,7 +21,8 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre world = ray_pre(origin, dir, tmin, tmax);
     RayPre r = world;
     Hit hit = hit_none();
-    uint index = node_count() > 0u ? 0u : NODE_NONE;
+    // push.top_order_nodes and a GpuInstance's order_nodes are 0 where a level has one order.
+    uint index = node_count() > 0u ? push.top_order_nodes * ray_order(world, dir) : NODE_NONE;
     // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
     bool in_object = false;
     uint resume = NODE_NONE;
@@ -49,9 +52,10 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
         if (!in_object) {
             instance = node.leaf >> LEAF_COUNT_BITS;
             GpuInstance inst = load_instance(instance);
-            r = ray_pre(transform_point(inst.world_to_object, origin), transform_dir(inst.world_to_object, dir), tmin, tmax0);
+            vec3 object_dir = transform_dir(inst.world_to_object, dir);
+            r = ray_pre(transform_point(inst.world_to_object, origin), object_dir, tmin, tmax0);
             resume = node.escape;
-            index = inst.root;
+            index = inst.root + inst.order_nodes * ray_order(r, object_dir);
             prim_base = inst.prim_base;
             mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
             leaf_shading_base = inst.shading_base;
