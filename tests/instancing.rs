@@ -444,6 +444,60 @@ fn instanced_mirrors_and_casters_are_found_as_in_the_expanded_scene() {
     assert!((sum(&a) - sum(&b)).abs() <= 0.02 * sum(&b), "{} against {}", sum(&a), sum(&b));
 }
 
+/// The mirror and caster searches see copies placed in the world only while they could use
+/// them: a glossy statue too rough to cast is never placed, and copies past what a search
+/// takes (over 2048 mirror triangles, over 8 caster pieces) are not placed, the outcome being
+/// the expanded scene's (no mirrors, no casters), so the host's memory does not grow with the
+/// copies.
+#[test]
+fn copies_are_placed_for_the_mirror_and_caster_searches_only_while_they_can_be_used() {
+    use vkrt::prepare::PreparedScene;
+    let material = |name: &str, specular: f32, shininess: f32, illum: u32| vkrt::scene::Material {
+        name: name.into(),
+        diffuse: Vec3::splat(0.2),
+        specular: Vec3::splat(specular),
+        shininess,
+        illum,
+        ..Default::default()
+    };
+    let ball = |m: u32| icosphere(1).to_triangles(0.4, Vec3::ZERO, m);
+    let grid = |n: usize, y: f32| (0..n).map(|k| translation((k % 40) as f32 * 2.0 - 40.0, y, (k / 40) as f32 * 2.0 - 40.0)).collect::<Vec<_>>();
+    // 1000 statues; `mirrors` copies of a flat two-triangle mirror (each in its own plane);
+    // `balls` copies of a sharp glossy ball.
+    let scene_of = |mirrors: usize, balls: usize| {
+        let mut scene = lit(scene_with(&[]));
+        // The Happy Buddha's MTL: Ks 0.35, Ns 32, too rough and too dim to cast.
+        scene.materials.extend([material("statue", 0.35, 32.0, 2), material("mirror", 1.0, 0.0, 3), material("ball", 0.9, 1000.0, 2)]);
+        add_group(&mut scene, &ball(1), grid(1000, 0.0));
+        let p = [Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 0.0, -0.5), Vec3::new(0.5, 0.0, 0.5), Vec3::new(-0.5, 0.0, 0.5)];
+        let quad = [[p[0], p[2], p[1]], [p[0], p[3], p[2]]].map(|p| Triangle { p, n: None, uv: None, material: 2 });
+        let tilted = |k: usize| Placement::from_trs(Vec3::new(0.0, 1.0 + k as f32 * 0.01, 0.0), Vec3::new(k as f32 * 0.1, 0.0, 0.0), Vec3::ONE).unwrap();
+        add_group(&mut scene, &quad, (0..mirrors).map(tilted).collect());
+        add_group(&mut scene, &ball(3), grid(balls, 3.0));
+        scene
+    };
+    let placed = |scene: &Scene| PreparedScene::new(scene, &PrepareOptions::default()).unwrap().specular_triangles.len();
+    assert_eq!(placed(&scene_of(0, 0)), 0, "the statues are placed");
+
+    // Past what the searches take: 2200 mirror triangles in 1100 planes, 9 balls.
+    let ctx = common::gpu_context();
+    let scene = scene_of(1100, 9);
+    assert_eq!(placed(&scene), 0);
+    let expanded = scene.expanded().unwrap().into_owned();
+    let (two, one) = (common::upload(&ctx, &scene), common::upload(&ctx, &expanded));
+    assert_eq!((two.mirror_plane_count, two.caster_count), (0, 0));
+    assert_eq!((one.mirror_plane_count, one.caster_count), (0, 0), "the expanded scene's searches find too many to use");
+
+    // Within: 16 mirror triangles, 7 balls (a curved mirror's copies count as casters too).
+    let scene = scene_of(8, 7);
+    assert_eq!(placed(&scene), 8 * 2 + 7 * ball(3).len());
+    let expanded = scene.expanded().unwrap().into_owned();
+    let (two, one) = (common::upload(&ctx, &scene), common::upload(&ctx, &expanded));
+    assert_eq!((two.mirror_plane_count, two.caster_count), (one.mirror_plane_count, one.caster_count));
+    assert_eq!((two.mirror_plane_count, two.caster_count), (8, 7));
+    common::assert_no_validation_messages(&ctx);
+}
+
 /// Renders through multi-order levels see what threaded levels see: the same closest hits
 /// (but for which of two triangles an edge goes to), so the same images but for such pixels.
 #[test]

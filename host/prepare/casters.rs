@@ -51,6 +51,12 @@ enum Cast {
     Reflect(f32),
 }
 
+/// Whether triangles of `m` may be a caster's (before the planar mirrors are flagged, a
+/// plain mirror may: those are left out later).
+pub fn casts(m: &GpuMaterial) -> bool {
+    cast_of(m).is_some()
+}
+
 fn cast_of(m: &GpuMaterial) -> Option<Cast> {
     if m.flags & (MATERIAL_METALLIC_ROUGHNESS | MATERIAL_EMISSIVE) != 0 {
         return None;

@@ -27,14 +27,7 @@ const FLAT_TOLERANCE: f32 = 1e-6;
 /// The materials with `MATERIAL_PLANAR_MIRROR` set where they qualify, and the triangles
 /// (in `triangles` order) of those materials.
 pub fn planar_mirrors(triangles: &[GpuTriangle], shading: &[GpuShading], materials: &[GpuMaterial]) -> (Vec<GpuMaterial>, Vec<GpuMirror>) {
-    let plain = |m: &GpuMaterial| {
-        m.flags & MATERIAL_MIRROR != 0
-            && m.flags & (MATERIAL_DIELECTRIC | MATERIAL_METALLIC_ROUGHNESS | MATERIAL_ALPHA | MATERIAL_NORMAL_MAP) == 0
-            && m.specular.iter().any(|&k| k > 0.0)
-            && m.diffuse_texture == TEXTURE_NONE
-            && m.emission_texture == TEXTURE_NONE
-    };
-    let mut qualifies: Vec<bool> = materials.iter().map(plain).collect();
+    let mut qualifies: Vec<bool> = materials.iter().map(plain_mirror).collect();
     let material_of = |t: &GpuTriangle| shading.get(t.prim as usize).map(|s| s.material as usize);
     for t in triangles {
         let Some(m) = material_of(t) else { continue };
@@ -69,6 +62,15 @@ pub fn planar_mirrors(triangles: &[GpuTriangle], shading: &[GpuShading], materia
         })
         .collect::<Vec<GpuMirror>>();
     (flagged, mirrors)
+}
+
+/// Whether `m` is a plain mirror, one whose flat triangles light sampling may aim through.
+pub fn plain_mirror(m: &GpuMaterial) -> bool {
+    m.flags & MATERIAL_MIRROR != 0
+        && m.flags & (MATERIAL_DIELECTRIC | MATERIAL_METALLIC_ROUGHNESS | MATERIAL_ALPHA | MATERIAL_NORMAL_MAP) == 0
+        && m.specular.iter().any(|&k| k > 0.0)
+        && m.diffuse_texture == TEXTURE_NONE
+        && m.emission_texture == TEXTURE_NONE
 }
 
 /// The most mirror planes light sampling aims through. It picks one plane uniformly, so with

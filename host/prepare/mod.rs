@@ -283,15 +283,37 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
     Ok((flat, PrepareTimes { boxes: t_boxes, tree: t_tree - t_boxes, flatten: t_flat - t_tree, shading: 0.0 }))
 }
 
-/// The scene's triangles of mirror, glass and glossy materials in the world, every copy of
-/// an instanced mesh placed, in primitive-id order, each with its world shading entry (the
-/// triangle's `prim` indexes the second list): all that `mirrors::planar_mirrors` and
-/// `casters::caustic_casters` may keep.
+/// The scene's triangles that `mirrors::planar_mirrors` and `casters::caustic_casters` may
+/// keep, in the world, every copy of an instanced mesh placed, in primitive-id order, each
+/// with its world shading entry (the triangle's `prim` indexes the second list): those of
+/// plain mirrors and of caster materials, each kind only while the copies would not exceed
+/// what its search takes. Past that the search finds nothing in the expanded scene either
+/// (more than `MAX_MIRROR_PLANES` x `MAX_PLANE_TRIANGLES` mirror triangles; more than
+/// `MAX_CASTERS` pieces, each copy at least one, copies taken as apart), so none of that
+/// kind is placed: the host's memory does not grow with the copies (10,000 glossy statues
+/// placed would take 48 GB). The choice is per material, so that `planar_mirrors` sees every
+/// triangle of each material it flags (a flagged material's paths are weighed against light
+/// sampling through all of its triangles).
 fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTriangle>, Vec<GpuShading>) {
-    use crate::gpu_abi::constants::{MATERIAL_DIELECTRIC, MATERIAL_MIRROR};
-    let specular = |m: &GpuMaterial| m.flags & (MATERIAL_MIRROR | MATERIAL_DIELECTRIC) != 0 || m.specular.iter().any(|&k| k > 0.0);
-    let keep: Vec<bool> = materials.iter().map(specular).collect();
-    let kept = |t: &crate::scene::Triangle| keep.get(t.material as usize).copied().unwrap_or(false);
+    // The materials as the upload's `planar_mirrors` flags them (a plain mirror whose triangles
+    // are all flat), found from each mesh once in its own space (placing a triangle turns its
+    // face and vertex normals alike): a flagged mirror is no caster.
+    let (flagged, _) = {
+        let own_and_meshes: Vec<&crate::scene::Triangle> = scene.triangles.iter().chain(scene.instances.iter().flat_map(|g| &g.mesh)).collect();
+        let triangles: Vec<GpuTriangle> = own_and_meshes.iter().enumerate().map(|(k, t)| accel::gpu_triangle(t, k as u32)).collect();
+        let shading: Vec<GpuShading> = own_and_meshes.iter().map(|t| scene_buffers::shading(t)).collect();
+        mirrors::planar_mirrors(&triangles, &shading, materials)
+    };
+    let material = |t: &crate::scene::Triangle| flagged.get(t.material as usize);
+    let mirror = |t: &crate::scene::Triangle| material(t).is_some_and(mirrors::plain_mirror);
+    let caster = |t: &crate::scene::Triangle| material(t).is_some_and(casters::casts);
+    let own_mirrors = scene.triangles.iter().filter(|t| mirror(t)).count() as u64;
+    let placed_mirrors: u64 =
+        own_mirrors + scene.instances.iter().map(|g| g.mesh.iter().filter(|t| mirror(t)).count() as u64 * g.placements.len() as u64).sum::<u64>();
+    let caster_copies: u64 = scene.instances.iter().filter(|g| g.mesh.iter().any(caster)).map(|g| g.placements.len() as u64).sum();
+    let place_mirrors = placed_mirrors <= (mirrors::MAX_MIRROR_PLANES * mirrors::MAX_PLANE_TRIANGLES) as u64;
+    let place_casters = caster_copies <= casters::MAX_CASTERS as u64;
+    let kept = |t: &crate::scene::Triangle| (place_mirrors && mirror(t)) || (place_casters && caster(t));
     let mut world: Vec<crate::scene::Triangle> = scene.triangles.iter().filter(|t| kept(t)).copied().collect();
     for g in &scene.instances {
         let specular_mesh: Vec<usize> = (0..g.mesh.len()).filter(|&i| kept(&g.mesh[i])).collect();
