@@ -80,9 +80,9 @@ pub struct RenderArgs {
     /// BVH builder: median, sah (binned SAH), sweep-sah or reinsertion (binned SAH, refined) [default: reinsertion].
     #[arg(hide = true, long, value_enum)]
     pub builder: Option<BuilderKind>,
-    /// BVH layout the shaders walk [default: threaded; for a scene with `Instances` a two-level
-    /// BVH of threaded levels, one copy of each mesh, which another layout expands]; none
-    /// changes the image beyond rounding.
+    /// BVH layout the shaders walk [default: threaded; a scene with instances is walked
+    /// through a two-level BVH, one copy of each mesh, in threaded or multi-order levels,
+    /// which the other layouts expand]; none changes the image beyond rounding.
     #[arg(hide = true, long, value_enum)]
     pub layout: Option<LayoutKind>,
     /// Put every triangle in the BVH, none in the triangle list that the scene's few largest
