@@ -76,8 +76,9 @@ pub struct TraceReport {
 /// rays/s, medians of 5 alternating rounds, BENCHMARKS.md), as long as its six orders of the
 /// tree fit one texel buffer of the device (`max_texel_buffer_elements` 16-byte texels): a
 /// binary tree over `triangles` has at most 2 triangles - 1 nodes. Beyond that (about 5.6 M
-/// triangles on lavapipe) threaded, which needs a sixth of it. For a two-level BVH `triangles`
-/// is [`tree_items`]' count.
+/// triangles on lavapipe) threaded, which needs a sixth of it. For a two-level BVH
+/// `triangles` counts each mesh's triangles once and adds its instances: its trees hold at
+/// most 2 n - 1 nodes over n items each, so at most 2 (triangles + instances) - 1 in all.
 pub fn default_layout(triangles: usize, max_texel_buffer_elements: u32) -> LayoutKind {
     let texels_per_node = (std::mem::size_of::<GpuNode>() as u64).div_ceil(TexelFormat::Rgba32Uint.bytes());
     let worst_nodes = 2 * triangles.max(1) as u64 - 1;
@@ -86,13 +87,6 @@ pub fn default_layout(triangles: usize, max_texel_buffer_elements: u32) -> Layou
     } else {
         LayoutKind::Threaded
     }
-}
-
-/// What bounds the nodes of the BVH `vkrt trace` walks for `triangles` triangles of a one-level
-/// BVH, or a two-level BVH's `triangles` (each mesh's once) and `instances`: its trees hold at
-/// most 2 n - 1 nodes over n items each, so at most 2 (triangles + instances) - 1 in all.
-pub fn tree_items(triangles: usize, instances: usize) -> usize {
-    triangles + instances
 }
 
 pub fn run(args: &TraceArgs) -> Result<TraceReport> {
@@ -104,12 +98,12 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let layout = match args.layout {
         Some(l) => l,
         None => {
-            let instances = scene.instances.iter().map(|g| g.placements.len()).sum::<usize>();
-            let meshes = scene.instances.iter().map(|g| g.mesh.len()).sum::<usize>();
-            // The scene's own triangles, if any, are one more instance of a two-level BVH.
-            let own = usize::from(!scene.triangles.is_empty());
-            let items = if instances == 0 { scene.triangles.len() } else { tree_items(scene.triangles.len() + meshes, instances + own) };
-            default_layout(items, ctx.info.max_texel_buffer_elements)
+            // Every triangle once, and a two-level BVH's instances (the scene's own triangles,
+            // if any, are one more).
+            let instances: usize = scene.instances.iter().map(|g| g.placements.len()).sum();
+            let own = usize::from(instances > 0 && !scene.triangles.is_empty());
+            let triangles = scene.triangles.len() + scene.instances.iter().map(|g| g.mesh.len()).sum::<usize>();
+            default_layout(triangles + instances + own, ctx.info.max_texel_buffer_elements)
         }
     };
     let options = PrepareOptions { builder: args.builder, layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };

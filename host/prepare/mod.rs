@@ -297,9 +297,12 @@ pub fn build_bvh(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, Pr
 fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTriangle>, Vec<GpuShading>) {
     // The materials as the upload's `planar_mirrors` flags them (a plain mirror whose triangles
     // are all flat), found from each mesh once in its own space (placing a triangle turns its
-    // face and vertex normals alike): a flagged mirror is no caster.
+    // face and vertex normals alike) and from plain mirrors' triangles only, the only ones it
+    // looks at: a flagged mirror is no caster.
+    let plain = |t: &crate::scene::Triangle| materials.get(t.material as usize).is_some_and(mirrors::plain_mirror);
     let (flagged, _) = {
-        let own_and_meshes: Vec<&crate::scene::Triangle> = scene.triangles.iter().chain(scene.instances.iter().flat_map(|g| &g.mesh)).collect();
+        let own_and_meshes: Vec<&crate::scene::Triangle> =
+            scene.triangles.iter().chain(scene.instances.iter().flat_map(|g| &g.mesh)).filter(|t| plain(t)).collect();
         let triangles: Vec<GpuTriangle> = own_and_meshes.iter().enumerate().map(|(k, t)| accel::gpu_triangle(t, k as u32)).collect();
         let shading: Vec<GpuShading> = own_and_meshes.iter().map(|t| scene_buffers::shading(t)).collect();
         mirrors::planar_mirrors(&triangles, &shading, materials)

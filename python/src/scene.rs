@@ -234,13 +234,13 @@ impl Scene {
     /// The layout `trace` walks: the one asked for, else the scene's if `layout=` was given at
     /// load, else `vkrt trace`'s default (for a scene with instances, of its two-level BVH).
     fn trace_layout(&self, layout: Option<&str>) -> Result<LayoutKind> {
-        use vkrt::cli::trace::{default_layout, tree_items};
+        // The uploaded BVH's triangles (every one once) and instances (0 for one level).
         let bvh = &self.gpu.bvh;
-        let items = if bvh.instances.is_some() { tree_items(bvh.triangle_count as usize, bvh.instance_count as usize) } else { self.summary.triangles };
+        let items = bvh.triangle_count as usize + bvh.instance_count as usize;
         Ok(match layout {
             Some(n) => layout_named(n)?,
             None if self.layout_given => self.options.layout,
-            None => default_layout(items, self.device.ctx.info.max_texel_buffer_elements),
+            None => vkrt::cli::trace::default_layout(items, self.device.ctx.info.max_texel_buffer_elements),
         })
     }
 
