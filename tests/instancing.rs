@@ -1,7 +1,7 @@
 //! The two-level BVH over instanced meshes (`accel::two_level`, issue 44), in each layout its
-//! levels take (threaded, multi-order): its walk on the GPU (`trace_two_level`) against its CPU
-//! twin, hit for hit and counter for counter, and both against the expanded scene the loaders
-//! make of the same copies.
+//! levels take (threaded, multi-order, parent-link): its walk on the GPU (the tracing shaders'
+//! `_two_level_<id>` builds) against its CPU twin, hit for hit and counter for counter, and
+//! both against the expanded scene the loaders make of the same copies.
 
 mod common;
 
@@ -187,6 +187,71 @@ fn multi_order_levels_walk_each_copy_in_the_order_of_its_own_space() {
     assert!(nodes_multi < nodes_threaded, "multi-order {nodes_multi} nodes against threaded {nodes_threaded}");
 }
 
+/// Parent-link levels: each tree starts at an even index (siblings are the pairs 2k, 2k + 1),
+/// and a turned, unevenly scaled copy is walked as the mesh's own one-level parent-link tree
+/// walks the object-space ray, node for node: its children are ordered by the object-space
+/// direction, and the walk ends where that tree is done.
+#[test]
+fn parent_link_levels_walk_a_copy_as_its_mesh_s_own_tree_walks_the_object_space_ray() {
+    use vkrt::accel::parent_link;
+    use vkrt::accel::two_level::object_ray;
+    use vkrt::geom::Aabb;
+    use vkrt::gpu_abi::GpuTriangle;
+
+    let sphere = icosphere(3).to_triangles(1.0, Vec3::ZERO, 0);
+    let mut scene = Scene::default();
+    add_group(&mut scene, &sphere, vec![Placement::from_trs(Vec3::new(1.0, 2.0, 3.0), Vec3::new(30.0, 70.0, -20.0), Vec3::new(2.0, 0.5, 1.0)).unwrap()]);
+    let options = PrepareOptions { layout: LayoutKind::ParentLink, ..PrepareOptions::default() };
+    let flat = build_two_level(&scene, &options).unwrap().0;
+    let instance = flat.nodes.instances()[0];
+    assert_eq!((instance.root % 2, instance.root), (0, 2), "one top-level leaf and its filler, then the mesh's tree");
+
+    // The mesh's own tree, by the same builder, in the one-level parent-link layout.
+    let positions: Vec<[Vec3; 3]> = scene.instances[0].mesh.iter().map(|t| t.p).collect();
+    let boxes: Vec<Aabb> = positions.iter().map(|p| Aabb::from_points(p)).collect();
+    let centroids: Vec<Vec3> = positions.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
+    let tree = vkrt::bvh::build(options.builder, &boxes, &centroids, &options.build);
+    let own = parent_link::flatten(&tree).unwrap();
+    let tris: Vec<GpuTriangle> = tree
+        .prim_indices
+        .iter()
+        .map(|&i| {
+            let p = positions[i as usize];
+            GpuTriangle { v0: p[0].to_array(), prim: i, v1: p[1].to_array(), shading: i, v2: p[2].to_array(), _pad1: 0 }
+        })
+        .collect();
+    assert_eq!(flat.node_count(), 2 + own.len());
+
+    let mut rng = Pcg32::new(21);
+    let (mut walked, mut reordered) = (0, 0);
+    for _ in 0..3000 {
+        let origin = Vec3::new(1.0, 2.0, 3.0) + rng.unit_vector() * 12.0;
+        let target = Vec3::new(1.0, 2.0, 3.0) + rng.unit_vector() * rng.range(0.0, 2.5);
+        let ray = GpuRay { origin: origin.to_array(), tmin: 0.0, direction: (target - origin).to_array(), tmax: f32::INFINITY };
+        for any_hit in [false, true] {
+            let got = flat.trace(&ray, any_hit);
+            let object = object_ray(&instance, &ray);
+            let expected = parent_link::trace(&own, &tris, &object, any_hit);
+            assert_eq!(
+                (got.t.to_bits(), got.prim, got.u.to_bits(), got.v.to_bits()),
+                (expected.t.to_bits(), expected.prim, expected.u.to_bits(), expected.v.to_bits()),
+                "{ray:?}"
+            );
+            // The top level's root (a leaf) is one visit more; a ray that misses its box walks nothing else.
+            if got.nodes_visited > 1 {
+                assert_eq!((got.nodes_visited, got.tris_tested), (expected.nodes_visited + 1, expected.tris_tested), "{ray:?}");
+                walked += 1;
+            }
+        }
+        // Rays for which the world direction would order some nodes' children the other way
+        // (a node's near child is the one on the direction's side of its split axis).
+        let (world, object) = (Vec3::from(ray.direction), Vec3::from(object_ray(&instance, &ray).direction));
+        reordered += usize::from((0..3).any(|a| (world[a] >= 0.0) != (object[a] >= 0.0)));
+    }
+    assert!(walked > 4000, "{walked} walks compared");
+    assert!(reordered > 1000, "{reordered} rays with a direction component whose sign the copy's turn changes");
+}
+
 #[test]
 fn turned_scaled_and_mirrored_copies_hit_as_the_expanded_scene() {
     let scene = turned_scene();
@@ -321,14 +386,14 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
         heatmap_builder: BuilderKind::Sah,
         heatmap_layout: vkrt::accel::LayoutKind::Threaded,
         builders: vec![BuilderKind::Sah],
-        layouts: vec![LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::Wide],
+        layouts: vec![LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Wide],
         device: vkrt::cli::DeviceArgs { device: None },
     };
     let ctx = common::gpu_context();
     let rows = vkrt::cli::bvh::scene_rows(&ctx, &scene_path, &scene, &args).unwrap();
-    let names = ["threaded", "multi-order", "wide", "two-level-threaded", "two-level-multi-order"];
+    let names = ["threaded", "multi-order", "parent-link", "wide", "two-level-threaded", "two-level-multi-order", "two-level-parent-link"];
     assert_eq!(rows.iter().map(|r| r.layout_name()).collect::<Vec<_>>(), names);
-    for (two, one) in [(3, 0), (4, 1)] {
+    for (two, one) in [(4, 0), (5, 1), (6, 2)] {
         let counts = rows[two].two_level.unwrap();
         assert_eq!((counts.instances, counts.meshes), (9, 3), "eight copies and the ground; two meshes and the ground");
         assert_eq!(counts.bottom_triangles, 108 + 320 + 2);
@@ -337,6 +402,8 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
     let table = vkrt::cli::bvh::format_rows(&rows, vkrt::cli::bvh::Format::Table, "dev");
     assert!(table.contains("two-level-threaded: 9 instances of 3 meshes; top level 17 nodes"), "{table}");
     assert!(table.contains("two-level-multi-order: 9 instances of 3 meshes; top level 102 nodes"), "{table}");
+    // Parent-link levels: the same tree, sibling pairs and one filler node.
+    assert!(table.contains("two-level-parent-link: 9 instances of 3 meshes; top level 18 nodes"), "{table}");
 }
 
 /// Whitted and path renders of a scene with instances: through the two-level BVH (the
@@ -498,10 +565,11 @@ fn copies_are_placed_for_the_mirror_and_caster_searches_only_while_they_can_be_u
     common::assert_no_validation_messages(&ctx);
 }
 
-/// Renders through multi-order levels see what threaded levels see: the same closest hits
-/// (but for which of two triangles an edge goes to), so the same images but for such pixels.
+/// Renders through multi-order and parent-link levels see what threaded levels see: the same
+/// closest hits (but for which of two triangles an edge goes to), so the same images but for
+/// such pixels.
 #[test]
-fn multi_order_levels_render_the_threaded_levels_images() {
+fn every_two_level_layout_renders_the_threaded_levels_images() {
     let scene = lit(turned_scene());
     let ctx = common::gpu_context();
     let settings = vkrt::integrator::RenderSettings { width: 64, height: 48, spp: 1, ..Default::default() };
@@ -516,10 +584,13 @@ fn multi_order_levels_render_the_threaded_levels_images() {
         })
         .collect();
     common::assert_no_validation_messages(&ctx);
-    for (name, a, b) in [("Whitted", &images[0].0, &images[1].0), ("path", &images[0].1, &images[1].1)] {
-        assert!(a.pixels.iter().any(|p| p[0] > 0.0), "{name}: black");
-        let same = a.pixels.iter().zip(&b.pixels).filter(|(x, y)| x == y).count();
-        assert!(same as f64 >= 0.98 * a.pixels.len() as f64, "{name}: {same} of {} pixels the same", a.pixels.len());
+    assert_eq!(LAYOUTS[0], LayoutKind::Threaded);
+    for (layout, other) in LAYOUTS.iter().zip(&images).skip(1) {
+        for (name, a, b) in [("Whitted", &images[0].0, &other.0), ("path", &images[0].1, &other.1)] {
+            assert!(a.pixels.iter().any(|p| p[0] > 0.0), "{name}: black");
+            let same = a.pixels.iter().zip(&b.pixels).filter(|(x, y)| x == y).count();
+            assert!(same as f64 >= 0.98 * a.pixels.len() as f64, "{}, {name}: {same} of {} pixels the same", layout.name(), a.pixels.len());
+        }
     }
 }
 
@@ -598,10 +669,10 @@ fn copies_past_the_one_level_bound_render_through_the_two_level_bvh_only() {
     assert_eq!(scene.placed_triangles(), 2 + 900 * 327_680);
     assert!(scene.placed_triangles() > vkrt::scene::assemble::MAX_PLACED_TRIANGLES);
     let e = scene.expanded().unwrap_err();
-    assert!(e.contains("294912002") && e.contains("threaded"), "{e}");
+    assert!(e.contains("294912002") && e.contains("268435456"), "{e}");
     let options = PrepareOptions { layout: LayoutKind::Compact, ..PrepareOptions::default() };
     let e = format!("{:#}", vkrt::prepare::PreparedScene::new(&scene, &options).unwrap_err());
-    assert!(e.contains("compact") && e.contains("threaded and multi-order"), "{e}");
+    assert!(e.contains("laying the scene out as compact (the threaded, multi-order, parent-link layouts walk instances"), "{e}");
 
     let ctx = common::gpu_context();
     let gpu = common::upload(&ctx, &scene);

@@ -32,6 +32,11 @@ pub struct LayoutInfo {
     pub node_struct: &'static str,
     /// One line for `--help`.
     pub help: &'static str,
+    /// The layout whose `_two_level_<id>` shader build walks a two-level BVH (`accel::two_level`)
+    /// with both levels in this one: itself, or one whose walk covers it (the multi-order
+    /// layout's orders are data to the threaded build); None where the levels cannot be laid
+    /// out in it (`accel::two_level::LAYOUTS` says why).
+    pub two_level: Option<LayoutKind>,
 }
 
 /// Every layout, in `LayoutKind` order.
@@ -43,6 +48,7 @@ pub const LAYOUTS: [LayoutInfo; 5] = [
         define: "LAYOUT_THREADED",
         node_struct: "GpuNode",
         help: "Threaded BVH2 with escape links (Smits 1998): one fixed child order, 32 B per node",
+        two_level: Some(LayoutKind::Threaded),
     },
     LayoutInfo {
         kind: LayoutKind::MultiOrder,
@@ -51,6 +57,7 @@ pub const LAYOUTS: [LayoutInfo; 5] = [
         define: "LAYOUT_MULTI_ORDER",
         node_struct: "GpuNode",
         help: "Six threaded orders of the tree, one per dominant ray axis and sign: near-to-far without a stack, 6x the node memory",
+        two_level: Some(LayoutKind::Threaded),
     },
     LayoutInfo {
         kind: LayoutKind::ParentLink,
@@ -59,6 +66,7 @@ pub const LAYOUTS: [LayoutInfo; 5] = [
         define: "LAYOUT_PARENT_LINK",
         node_struct: "GpuParentNode",
         help: "Parent links walked by the Hapala et al. 2011 state machine: ordered by each node's split axis, 32 B per node",
+        two_level: Some(LayoutKind::ParentLink),
     },
     LayoutInfo {
         kind: LayoutKind::Compact,
@@ -67,6 +75,7 @@ pub const LAYOUTS: [LayoutInfo; 5] = [
         define: "LAYOUT_COMPACT",
         node_struct: "GpuCompactNode",
         help: "The threaded layout in 16 B nodes: boxes rounded outwards to a 16-bit grid, one texel fetch per node",
+        two_level: None,
     },
     LayoutInfo {
         kind: LayoutKind::Wide,
@@ -75,6 +84,7 @@ pub const LAYOUTS: [LayoutInfo; 5] = [
         define: "LAYOUT_WIDE",
         node_struct: "GpuWideNode",
         help: "A 4-ary BVH collapsed from the binary one: four boxes per visit, 128 B per node, children ordered per node",
+        two_level: None,
     },
 ];
 

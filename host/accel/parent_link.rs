@@ -34,18 +34,27 @@ const MAX_NODES: usize = 1 << (32 - LEAF_COUNT_BITS);
 
 /// Lay `bvh` out in sibling pairs, depth first (a node's children are placed when it is).
 pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuParentNode>> {
+    flatten_at(bvh, 0)
+}
+
+/// [`flatten`] for an array in which the tree starts at `base` (a two-level BVH's levels,
+/// `two_level`): every parent and child index offset by it. `base` must be even, so that
+/// siblings stay the pairs (2k, 2k + 1); every tree's array has an even length (its filler),
+/// so trees laid one after another keep that. The root's parent is the root itself.
+pub fn flatten_at(bvh: &Bvh, base: u32) -> anyhow::Result<Vec<GpuParentNode>> {
     let n = bvh.nodes.len();
     if n == 0 {
         return Ok(Vec::new());
     }
-    if n + 1 > MAX_NODES {
-        bail!("BVH has {n} nodes; the parent-link layout addresses at most {}", MAX_NODES - 1);
+    anyhow::ensure!(base % 2 == 0, "a parent-link tree must start at an even index, not {base}");
+    if base as usize + n + 1 > MAX_NODES {
+        bail!("the parent-link array would hold {} nodes; the layout addresses at most {}", base as usize + n, MAX_NODES - 1);
     }
     let empty = GpuParentNode { bmin: [f32::INFINITY; 3], parent: 0, bmax: [f32::NEG_INFINITY; 3], leaf: 0 };
     let mut out = vec![empty; n + 1];
-    let mut next_pair = 2u32;
+    let mut next_pair = base + 2;
     // (source node, destination index, parent destination, parent's split axis)
-    let mut stack = vec![(0u32, 0u32, 0u32, 0u32)];
+    let mut stack = vec![(0u32, base, base, 0u32)];
     while let Some((src, dst, parent, parent_axis)) = stack.pop() {
         let node = &bvh.nodes[src as usize];
         let (leaf, axis) = match node.kind {
@@ -68,7 +77,7 @@ pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuParentNode>> {
                 (pair << LEAF_COUNT_BITS, axis as u32)
             }
         };
-        out[dst as usize] =
+        out[(dst - base) as usize] =
             GpuParentNode { bmin: node.bounds.min.to_array(), parent: (parent << 4) | (axis << 2) | parent_axis, bmax: node.bounds.max.to_array(), leaf };
     }
     Ok(out)
@@ -77,14 +86,14 @@ pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuParentNode>> {
 /// Where the walk came from (Hapala et al. 2011, fig. 2; the paper's state names).
 #[derive(Clone, Copy, PartialEq, Eq)]
 #[allow(clippy::enum_variant_names)]
-enum State {
+pub(super) enum State {
     FromParent,
     FromSibling,
     FromChild,
 }
 
 /// The near child of an interior node whose even child is `even`, split on `axis`.
-fn near_child(even: u32, axis: u32, dir: Vec3) -> u32 {
+pub(super) fn near_child(even: u32, axis: u32, dir: Vec3) -> u32 {
     if dir[axis as usize] >= 0.0 {
         even
     } else {

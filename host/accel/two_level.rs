@@ -1,21 +1,31 @@
 //! A two-level BVH over instanced meshes (issue 44): one bottom-level tree per mesh, in object
 //! space, and a top-level tree over the instances' world boxes, whose leaves each name one
 //! instance ([`GpuInstance`]: world-to-object rows, the mesh tree's root, the copy's first
-//! primitive id). Both levels are threaded arrays (Smits 1998), in one node array: the top
-//! level from index 0, then each mesh's tree, whose escape links end in NODE_NONE. They are
-//! laid out in one of [`LAYOUTS`]: the threaded layout's single order, or the multi-order
-//! layout's six near-first orders per tree (`multi_order`), in which a ray takes the top
-//! level's order of its world direction and each mesh's order of its object-space direction
-//! (a turned copy's dominant axis is another), one multiply-add per level entered.
+//! primitive id), in one node array: the top level from index 0, then each mesh's tree. Both
+//! levels are laid out in one of [`LAYOUTS`]: threaded arrays (Smits 1998) in the threaded
+//! layout's single order, or in the multi-order layout's six near-first orders per tree
+//! (`multi_order`), in which a ray takes the top level's order of its world direction and each
+//! mesh's order of its object-space direction (a turned copy's dominant axis is another), one
+//! multiply-add per level entered; in those a mesh tree's escape links end in NODE_NONE. Or
+//! parent-linked sibling pairs (`parent_link`, Hapala et al. 2011), each tree starting at an
+//! even index, in which a level's walk ends when it is done with that level's root.
 //!
 //! The walk stays stackless with O(1) more state than the one-level walk: at a top-level leaf
 //! the ray goes into object space (its direction not renormalised, so t, tmin and tmax keep
 //! their world meaning and one tmax serves both levels), walks the mesh's tree from its root,
-//! and on the tree's NODE_NONE continues in the top level at the leaf's escape link with the
-//! world ray. What it carries besides: that escape link, whether it is in object space, the
-//! instance's primitive base and mirror flag (Embree's and pbrt's instancing, without their
-//! stack). Shader: `shaders/include/traverse_two_level.glsl`, in the `_two_level` build of every
-//! tracing shader.
+//! and when that tree is done continues in the top level where it would have gone after the
+//! leaf (a threaded level: the leaf's escape link; a parent-link level: the leaf's sibling or
+//! parent, and the state it enters it in) with the world ray. What it carries besides: that
+//! place, whether it is in object space, the level's root (parent-link), the instance's
+//! primitive base and mirror flag (Embree's and pbrt's instancing, without their stack).
+//! Shaders: `shaders/include/traverse_two_level.glsl` (threaded and multi-order levels, the
+//! `_two_level_threaded` build of every tracing shader) and
+//! `traverse_two_level_parent_link.glsl` (the `_two_level_parent_link` build).
+//!
+//! The compact and wide layouts cannot be levels as they stand: a compact tree's boxes are
+//! cells of one grid over the scene (a mesh's tree in object space would need a grid of its own
+//! in each instance), and the wide walk's per-node slot state and 128-byte nodes would need a
+//! node array of their own format and a walk of their own.
 //!
 //! The scene's own triangles, which are no instance's (`scene::instance::InstanceGroup`), form
 //! one more mesh under an identity instance: its object ray is the world ray to the bit (each
@@ -28,12 +38,13 @@ use glam::{Mat4, Vec3};
 use super::intersect::{intersect_box, RayPre};
 use super::leaf::{leaf_count, miss, test_leaf};
 use super::multi_order::{self, ray_order};
+use super::parent_link::{self, near_child, State};
 use super::threaded::threaded;
 use super::{FlatBvh, LayoutKind, NodeArray, MAX_FLAT_TRIANGLES};
 use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
 use crate::geom::Aabb;
 use crate::gpu_abi::constants::{INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
-use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuPush, GpuRay, GpuTriangle};
+use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuParentNode, GpuPush, GpuRay, GpuTriangle};
 use crate::scene::instance::{placed_box, Placement};
 use crate::scene::Scene;
 
@@ -41,7 +52,7 @@ use crate::scene::Scene;
 /// top-level leaves name.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TwoLevel {
-    pub nodes: Vec<GpuNode>,
+    pub nodes: LevelNodes,
     /// Nodes of the top-level tree (the first ones of `nodes`).
     pub top_nodes: usize,
     pub instances: Vec<GpuInstance>,
@@ -58,23 +69,92 @@ pub struct TwoLevel {
     pub top_order_nodes: u32,
 }
 
-/// The layouts a two-level BVH's levels can be laid out in: those whose walk starts at a
-/// node index and runs to NODE_NONE with no state but the index, so that the walk can enter
-/// a mesh's tree and come back to the top level with O(1) state.
-pub const LAYOUTS: [LayoutKind; 2] = [LayoutKind::Threaded, LayoutKind::MultiOrder];
+/// The layouts a two-level BVH's levels can be laid out in: those whose walk can start at any
+/// tree's root in the one node array with O(1) state and tell when that tree is done, so that
+/// the walk can enter a mesh's tree and come back to the top level (the module's comment says
+/// why the compact and wide layouts cannot). `LayoutInfo::two_level` names the shader build of
+/// each.
+pub const LAYOUTS: [LayoutKind; 3] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink];
+
+// The shader builds (kinds.rs, read by host/build.rs) and this list name the same layouts.
+const _: () = {
+    let mut k = 0;
+    while k < LayoutKind::ALL.len() {
+        let kind = LayoutKind::ALL[k];
+        let mut listed = false;
+        let mut i = 0;
+        while i < LAYOUTS.len() {
+            listed |= LAYOUTS[i] as usize == kind as usize;
+            i += 1;
+        }
+        assert!(listed == super::kinds::LAYOUTS[kind as usize].two_level.is_some(), "two_level::LAYOUTS and LayoutInfo::two_level disagree");
+        k += 1;
+    }
+};
+
+/// A two-level BVH's node array, both levels in one node format.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LevelNodes {
+    /// Threaded or multi-order levels.
+    Threaded(Vec<GpuNode>),
+    /// Parent-link levels.
+    ParentLink(Vec<GpuParentNode>),
+}
+
+impl LevelNodes {
+    pub fn len(&self) -> usize {
+        match self {
+            LevelNodes::Threaded(n) => n.len(),
+            LevelNodes::ParentLink(n) => n.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn bytes(&self) -> &[u8] {
+        match self {
+            LevelNodes::Threaded(n) => bytemuck::cast_slice(n),
+            LevelNodes::ParentLink(n) => bytemuck::cast_slice(n),
+        }
+    }
+
+    /// `other`'s nodes after these (both in one format, as [`lay_out`] gives them for one layout).
+    fn append(&mut self, other: LevelNodes) {
+        match (self, other) {
+            (LevelNodes::Threaded(a), LevelNodes::Threaded(b)) => a.extend(b),
+            (LevelNodes::ParentLink(a), LevelNodes::ParentLink(b)) => a.extend(b),
+            _ => unreachable!("a two-level BVH's levels are in one layout"),
+        }
+    }
+
+    /// Each leaf's word (`(first << LEAF_COUNT_BITS) | count`, count > 0; the same in every
+    /// format), to relabel: a top-level leaf's to its instance, a mesh leaf's first triangle
+    /// past the meshes before it.
+    fn for_each_leaf(&mut self, f: impl FnMut(&mut u32)) {
+        match self {
+            LevelNodes::Threaded(n) => n.iter_mut().map(|n| &mut n.leaf).filter(|l| leaf_count(**l) != 0).for_each(f),
+            LevelNodes::ParentLink(n) => n.iter_mut().map(|n| &mut n.leaf).filter(|l| leaf_count(**l) != 0).for_each(f),
+        }
+    }
+}
 
 impl NodeArray for TwoLevel {
     fn kind(&self) -> LayoutKind {
         self.layout
     }
     fn bytes(&self) -> &[u8] {
-        bytemuck::cast_slice(&self.nodes)
+        self.nodes.bytes()
     }
     fn count(&self) -> usize {
         self.nodes.len()
     }
     fn trace(&self, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
-        trace(&self.nodes, self.top_order_nodes, tris, &self.instances, ray, any_hit)
+        match &self.nodes {
+            LevelNodes::Threaded(nodes) => trace(nodes, self.top_order_nodes, tris, &self.instances, ray, any_hit),
+            LevelNodes::ParentLink(nodes) => trace_parent_link(nodes, tris, &self.instances, ray, any_hit),
+        }
     }
     fn fill_push(&self, push: &mut GpuPush) {
         push.top_order_nodes = self.top_order_nodes;
@@ -114,13 +194,15 @@ pub fn meshes(scene: &Scene) -> Vec<Mesh> {
     meshes
 }
 
-/// A level's tree laid out in `layout` for a node array in which it starts at `base`: its
-/// nodes (every order's) and its nodes per order (0 for the threaded layout's one order).
-fn lay_out(tree: &Bvh, layout: LayoutKind, base: u32) -> (Vec<GpuNode>, u32) {
-    match layout {
-        LayoutKind::MultiOrder => (multi_order::orders(tree, base), tree.nodes.len() as u32),
-        _ => (threaded(tree, |_, l, r| (l, r), base), 0),
-    }
+/// A level's tree laid out in `layout` (one of [`LAYOUTS`]) for a node array in which it
+/// starts at `base` (even: every tree's array has an even length in the parent-link layout):
+/// its nodes (every order's) and its nodes per order (0 for the layouts with one order).
+fn lay_out(tree: &Bvh, layout: LayoutKind, base: u32) -> anyhow::Result<(LevelNodes, u32)> {
+    Ok(match layout {
+        LayoutKind::MultiOrder => (LevelNodes::Threaded(multi_order::orders(tree, base)), tree.nodes.len() as u32),
+        LayoutKind::ParentLink => (LevelNodes::ParentLink(parent_link::flatten_at(tree, base)?), 0),
+        _ => (LevelNodes::Threaded(threaded(tree, |_, l, r| (l, r), base)), 0),
+    })
 }
 
 /// Builds the two-level BVH of `meshes` ([`meshes`]) in `layout` (one of [`LAYOUTS`]):
@@ -158,11 +240,8 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig, layout
     // The top level: one instance per leaf.
     let centroids: Vec<Vec3> = world_boxes.iter().map(|b| b.center()).collect();
     let top = bvh::build(builder, &world_boxes, &centroids, &BuildConfig { max_leaf_size: 1, ..*config });
-    let (mut nodes, top_order_nodes) = lay_out(&top, layout, 0);
-    for n in nodes.iter_mut().filter(|n| leaf_count(n.leaf) != 0) {
-        let first = (n.leaf >> LEAF_COUNT_BITS) as usize;
-        n.leaf = (top.prim_indices[first] << LEAF_COUNT_BITS) | 1;
-    }
+    let (mut nodes, top_order_nodes) = lay_out(&top, layout, 0)?;
+    nodes.for_each_leaf(|leaf| *leaf = (top.prim_indices[(*leaf >> LEAF_COUNT_BITS) as usize] << LEAF_COUNT_BITS) | 1);
     let top_nodes = nodes.len();
     let top_sah = bvh::stats::stats(&top).sah_cost;
 
@@ -176,17 +255,13 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig, layout
         shading_bases.push(triangles.len() as u32);
         let too_many = || anyhow::anyhow!("the two-level BVH has more than 2^32 nodes");
         let base = u32::try_from(nodes.len()).map_err(|_| too_many())?;
-        let (tree_nodes, per_order) = lay_out(tree, layout, base);
+        let (mut tree_nodes, per_order) = lay_out(tree, layout, base)?;
         u32::try_from(nodes.len() + tree_nodes.len()).map_err(|_| too_many())?;
         roots.push(base);
         order_nodes.push(per_order);
         let tri_base = triangles.len() as u32;
-        nodes.extend(tree_nodes.into_iter().map(|mut n| {
-            if leaf_count(n.leaf) != 0 {
-                n.leaf += tri_base << LEAF_COUNT_BITS;
-            }
-            n
-        }));
+        tree_nodes.for_each_leaf(|leaf| *leaf += tri_base << LEAF_COUNT_BITS);
+        nodes.append(tree_nodes);
         triangles.extend(tree.prim_indices.iter().map(|&i| {
             let p = m.positions[i as usize];
             GpuTriangle { v0: p[0].to_array(), prim: m.prims[i as usize], v1: p[1].to_array(), shading: i, v2: p[2].to_array(), _pad1: 0 }
@@ -301,6 +376,78 @@ pub fn trace(nodes: &[GpuNode], top_order_nodes: u32, tris: &[GpuTriangle], inst
         index = node.escape;
     }
     hit
+}
+
+/// `traverse` in traverse_two_level_parent_link.glsl: [`trace`] with parent-link levels, each
+/// walked by the state machine of `parent_link::trace` (Hapala et al. 2011) from its root (the
+/// top level's at 0, a mesh's at its instance's root) until the walk is done with that root. A
+/// mesh's tree orders children by the object-space direction, as it splits object space.
+pub fn trace_parent_link(nodes: &[GpuParentNode], tris: &[GpuTriangle], instances: &[GpuInstance], ray: &GpuRay, any_hit: bool) -> GpuHit {
+    let world = RayPre::new(ray);
+    let world_dir = Vec3::from(ray.direction);
+    let (mut r, mut dir) = (world, world_dir);
+    let mut hit = miss();
+    let mut tmax = ray.tmax;
+    let (mut root, mut current, mut state) = (0u32, 0u32, State::FromParent);
+    // While in a mesh's tree: where the top level goes on after its leaf (None: nowhere, the
+    // leaf was the top level's root), and what the instance's hits need.
+    let mut in_object = false;
+    let mut resume = None;
+    let (mut prim_base, mut mirrored) = (0u32, false);
+    while let Some(node) = nodes.get(current as usize) {
+        if state != State::FromChild {
+            hit.nodes_visited += 1;
+            let entered = intersect_box(&r, node.bmin.into(), node.bmax.into(), tmax).is_some();
+            if entered && leaf_count(node.leaf) == 0 {
+                (current, state) = (near_child(node.leaf >> LEAF_COUNT_BITS, (node.parent >> 2) & 3, dir), State::FromParent);
+                continue;
+            }
+            if entered && !in_object {
+                let Some(instance) = instances.get((node.leaf >> LEAF_COUNT_BITS) as usize) else { break };
+                resume = next_in_level(node, current, root, dir);
+                let object = object_ray(instance, ray);
+                (r, dir) = (RayPre::new(&object), Vec3::from(object.direction));
+                (root, current, state, in_object) = (instance.root, instance.root, State::FromParent, true);
+                (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+                continue;
+            }
+            if entered && test_leaf(node.leaf, tris, &r, &mut tmax, &mut hit, any_hit) {
+                hit.prim += prim_base;
+                if mirrored {
+                    (hit.u, hit.v) = (hit.v, hit.u);
+                }
+                if any_hit {
+                    return hit;
+                }
+            }
+        }
+        // Done with this node (or back at it from a child): on to the next of its level, or
+        // out of a mesh's tree to where the top level goes on.
+        match next_in_level(node, current, root, dir) {
+            Some(next) => (current, state) = next,
+            None => {
+                let Some(next) = resume.take().filter(|_| in_object) else { break };
+                (current, state) = next;
+                (in_object, root, r, dir) = (false, 0, world, world_dir);
+            }
+        }
+    }
+    hit
+}
+
+/// In a parent-link level rooted at `root`, the node after `current`, which the walk is done
+/// with (`node`: its entry), and the state it enters that node in: the far sibling if `current`
+/// is the near child, else the parent (to go on up); None at the root, where the level is done.
+/// (From the parent the walk enters the near child, from the sibling the far one, so whether
+/// a node is the near child says which way it came.)
+fn next_in_level(node: &GpuParentNode, current: u32, root: u32, dir: Vec3) -> Option<(u32, State)> {
+    if current == root {
+        None
+    } else if current == near_child(current & !1, node.parent & 3, dir) {
+        Some((current ^ 1, State::FromSibling))
+    } else {
+        Some((node.parent >> 4, State::FromChild))
+    }
 }
 
 /// What `vkrt bvh` reports of each level.

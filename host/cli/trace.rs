@@ -93,7 +93,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let mut reader = RayReader::open(&args.rays)?;
     let scene = crate::scene::load_scene(&args.scene)?;
     let ctx = args.device.context()?;
-    // A scene with instances walks its two-level BVH in the threaded and multi-order layouts
+    // A scene with instances walks its two-level BVH in the layouts of two_level::LAYOUTS
     // (the others walk the expanded copies).
     let layout = match args.layout {
         Some(l) => l,

@@ -101,7 +101,7 @@ shared_constants! {
     /// (`crate::accel::triangle_list`).
     BINDING_TRIANGLE_LIST = 43;
     /// A two-level BVH's instances (`GpuInstance[]`, 8 texels each; the
-    /// `_two_level` builds of the tracing shaders only).
+    /// `_two_level_<id>` builds of the tracing shaders only).
     BINDING_INSTANCES = 44;
     /// `GpuInstance::flags`: the instance's transform mirrors.
     INSTANCE_MIRRORED = 1;

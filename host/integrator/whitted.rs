@@ -49,7 +49,7 @@ pub fn render(ctx: &Context, scene: &GpuScene, settings: &RenderSettings, progre
     let pipeline = ComputePipeline::specialized(
         ctx,
         "whitted",
-        scene.bvh.spirv(Tracing::Whitted),
+        scene.bvh.spirv(Tracing::Whitted)?,
         &bindings,
         std::mem::size_of::<GpuPush>() as u32,
         &[features.spec_constants(), scene.trace_spec_constants()].concat(),

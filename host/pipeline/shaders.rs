@@ -43,22 +43,24 @@ impl Tracing {
         self.builds().1[layout as usize]
     }
 
-    /// The SPIR-V of this shader built for a two-level BVH (`accel::two_level`).
-    pub fn spirv_two_level(self) -> &'static [u8] {
-        match self {
-            Tracing::Whitted => WHITTED_TWO_LEVEL,
+    /// The SPIR-V of this shader built for a two-level BVH (`accel::two_level`) laid out in
+    /// `layout`; None for a layout no two-level BVH is laid out in.
+    pub fn spirv_two_level(self, layout: LayoutKind) -> Option<&'static [u8]> {
+        let builds = match self {
+            Tracing::Whitted => &WHITTED_TWO_LEVEL,
             Tracing::Path(p) => match (p.mirrors, p.casters, p.lean) {
-                (false, false, false) => PATH_TWO_LEVEL,
-                (true, false, false) => PATH_MIRRORS_TWO_LEVEL,
-                (false, true, false) => PATH_CASTERS_TWO_LEVEL,
-                (true, true, false) => PATH_MIRRORS_CASTERS_TWO_LEVEL,
-                (false, false, true) => PATH_LEAN_TWO_LEVEL,
-                (true, false, true) => PATH_MIRRORS_LEAN_TWO_LEVEL,
-                (false, true, true) => PATH_CASTERS_LEAN_TWO_LEVEL,
-                (true, true, true) => PATH_MIRRORS_CASTERS_LEAN_TWO_LEVEL,
+                (false, false, false) => &PATH_TWO_LEVEL,
+                (true, false, false) => &PATH_MIRRORS_TWO_LEVEL,
+                (false, true, false) => &PATH_CASTERS_TWO_LEVEL,
+                (true, true, false) => &PATH_MIRRORS_CASTERS_TWO_LEVEL,
+                (false, false, true) => &PATH_LEAN_TWO_LEVEL,
+                (true, false, true) => &PATH_MIRRORS_LEAN_TWO_LEVEL,
+                (false, true, true) => &PATH_CASTERS_LEAN_TWO_LEVEL,
+                (true, true, true) => &PATH_MIRRORS_CASTERS_LEAN_TWO_LEVEL,
             },
-            Tracing::Trace => TRACE_TWO_LEVEL,
-        }
+            Tracing::Trace => &TRACE_TWO_LEVEL,
+        };
+        builds[layout as usize]
     }
 
     /// The name of the shader in `super::variants::SHADERS`.

@@ -26,9 +26,9 @@ pub struct Shader {
     /// Preprocessor defines (`NAME` or `NAME=VALUE`).
     pub defines: &'static [&'static str],
     /// Built once per BVH layout of `accel::kinds::LAYOUTS`, each with that layout's define,
-    /// and (a product shader) once more as `<name>_two_level` with `TWO_LEVEL`, for the
-    /// two-level BVH of a scene with instances (`accel::two_level`, threaded or multi-order
-    /// levels);
+    /// and (a product shader) once more per two-level walk as `<name>_two_level_<id>` with
+    /// `TWO_LEVEL` and that layout's define, for the two-level BVH of a scene with instances
+    /// (`accel::two_level`; `LayoutInfo::two_level` says which build walks which levels);
     /// otherwise built once, walking the threaded layout if it traces at all.
     pub per_layout: bool,
     pub role: Role,

@@ -211,9 +211,9 @@ impl PreparedScene {
         }
     }
 
-    /// Prepares `scene` as `options` say: a scene with instances walked with the threaded or
-    /// the multi-order layout gets its two-level BVH ([`build_two_level`]), any other scene or layout the
-    /// one-level tree over every triangle ([`build_bvh`]).
+    /// Prepares `scene` as `options` say: a scene with instances walked in a layout of
+    /// `accel::two_level::LAYOUTS` gets its two-level BVH ([`build_two_level`]), any other scene
+    /// or layout the one-level tree over every triangle ([`build_bvh`]).
     pub fn new(scene: &Scene, options: &PrepareOptions) -> Result<Self> {
         // Of the scene as loaded: an expanded copy's bounds are its exact ones, a little inside
         // the placed boxes `Scene::bounds` takes, and both walks must offset rays alike.
@@ -245,7 +245,10 @@ fn lights_and_atlas(scene: &Scene, buffers: &SceneBuffers, info: &SceneInfo) -> 
 /// The scene with its instances' copies placed ([`Scene::expanded`]), for a one-level BVH in
 /// `layout`; the error says why a scene of too many copies needs the threaded layout.
 pub fn expand(scene: &Scene, layout: LayoutKind) -> Result<std::borrow::Cow<'_, Scene>> {
-    scene.expanded().map_err(|e| anyhow::anyhow!("{e}")).with_context(|| format!("laying the scene out as {}", layout.name()))
+    scene.expanded().map_err(|e| anyhow::anyhow!("{e}")).with_context(|| {
+        let two_level: Vec<&str> = accel::two_level::LAYOUTS.iter().map(|l| l.name()).collect();
+        format!("laying the scene out as {} (the {} layouts walk instances without copying them)", layout.name(), two_level.join(", "))
+    })
 }
 
 /// Builds the scene's BVH with `options.builder` and lays it out as `options.layout`: all a
@@ -329,7 +332,7 @@ fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTrian
 
 /// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the
 /// layout is one a two-level BVH's levels are laid out in (`accel::two_level::LAYOUTS`:
-/// threaded, multi-order); another layout walks the expanded copies.
+/// threaded, multi-order, parent-link); another layout walks the expanded copies.
 pub fn walks_two_levels(scene: &Scene, layout: LayoutKind) -> bool {
     !scene.instances.is_empty() && accel::two_level::LAYOUTS.contains(&layout)
 }
@@ -345,8 +348,8 @@ pub fn build_walk(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, P
 }
 
 /// The two-level BVH of a scene with instances (`accel::two_level`: one tree per mesh, a top
-/// level over the instances), built with `options.builder` in `options.layout` (threaded or
-/// multi-order), as a [`FlatBvh`] without a triangle
+/// level over the instances), built with `options.builder` in `options.layout` (one of
+/// `accel::two_level::LAYOUTS`), as a [`FlatBvh`] without a triangle
 /// list whose node array names its instances: what `vkrt trace`, `vkrt bvh` and the renders
 /// walk for such a scene ([`walks_two_levels`]). The time is all in `tree`.
 pub fn build_two_level(scene: &Scene, options: &PrepareOptions) -> Result<(FlatBvh, PrepareTimes)> {

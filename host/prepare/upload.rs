@@ -30,7 +30,7 @@ pub struct GpuBvh<'a> {
     /// the rest.
     pub push: GpuPush,
     /// A two-level BVH's instances (BINDING_INSTANCES, `accel::two_level`): `nodes` then holds
-    /// both levels, walked by the shaders' `_two_level` builds. None for a one-level BVH.
+    /// both levels, walked by the shaders' `_two_level_<id>` builds. None for a one-level BVH.
     pub instances: Option<TexelArray<'a>>,
     /// How many instances `instances` holds (0 for a one-level BVH).
     pub instance_count: u32,
@@ -85,12 +85,13 @@ impl<'a> GpuBvh<'a> {
         pipeline.bind(BINDING_TRIANGLE_LIST, &self.list)
     }
 
-    /// The SPIR-V of `shader` that walks this BVH: the build for its layout, or the two-level one.
-    pub fn spirv(&self, shader: Tracing) -> &'static [u8] {
+    /// The SPIR-V of `shader` that walks this BVH: the build for its layout, or the two-level
+    /// one for its levels' layout.
+    pub fn spirv(&self, shader: Tracing) -> Result<&'static [u8]> {
         if self.instances.is_some() {
-            shader.spirv_two_level()
+            shader.spirv_two_level(self.layout).with_context(|| format!("no shader walks a two-level BVH laid out as {}", self.layout.name()))
         } else {
-            shader.spirv(self.layout)
+            Ok(shader.spirv(self.layout))
         }
     }
 

@@ -104,10 +104,10 @@ impl Placement<'_> {
 }
 
 impl<'a> RayQuery<'a> {
-    /// Queries walking `bvh` with the product's `trace.comp` for its layout (`trace_two_level`,
+    /// Queries walking `bvh` with the product's `trace.comp` for its layout (`trace_two_level_<id>`,
     /// its TWO_LEVEL build, for a two-level BVH).
     pub fn new(ctx: &'a Context, bvh: &GpuBvh) -> Result<Self> {
-        let spv = bvh.spirv(shaders::Tracing::Trace);
+        let spv = bvh.spirv(shaders::Tracing::Trace)?;
         Self::with_shader(ctx, bvh, spv)
     }
 

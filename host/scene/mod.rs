@@ -230,7 +230,7 @@ impl Scene {
         let placed = self.placed_triangles();
         if placed > assemble::MAX_PLACED_TRIANGLES {
             return Err(format!(
-                "the scene places {placed} triangles, every copy of its instanced meshes ({}) counted; a one-level BVH holds every copy and takes at most {}: only the threaded and multi-order layouts walk instances without copying them",
+                "the scene places {placed} triangles, every copy of its instanced meshes ({}) counted; a one-level BVH holds every copy and takes at most {}",
                 self.instances.len(),
                 assemble::MAX_PLACED_TRIANGLES
             ));

@@ -23,6 +23,10 @@ uint near_child(uint even, uint axis, vec3 dir) {
     return dir[axis] >= 0.0 ? even : even + 1u;
 }
 
+#ifdef TWO_LEVEL
+// Instanced meshes under a top level (accel::two_level), both levels parent-linked.
+#include "traverse_two_level_parent_link.glsl"
+#else
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin, tmax);
     Hit hit = hit_none();
@@ -75,5 +79,6 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     }
     return hit;
 }
+#endif
 
 #endif

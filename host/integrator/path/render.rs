@@ -106,7 +106,7 @@ impl<'a> PathGpu<'a> {
         let pipeline = ComputePipeline::specialized(
             ctx,
             shader.name(),
-            scene.bvh.spirv(shader),
+            scene.bvh.spirv(shader)?,
             &bindings,
             std::mem::size_of::<GpuPush>() as u32,
             &[features.spec_constants(), scene.trace_spec_constants(), vec![(SPEC_LIGHT_CONNECTIONS, connects as u32)]].concat(),
