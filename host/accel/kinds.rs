@@ -75,7 +75,7 @@ pub const LAYOUTS: [LayoutInfo; 5] = [
         define: "LAYOUT_COMPACT",
         node_struct: "GpuCompactNode",
         help: "The threaded layout in 16 B nodes: boxes rounded outwards to a 16-bit grid, one texel fetch per node",
-        two_level: None,
+        two_level: Some(LayoutKind::Compact),
     },
     LayoutInfo {
         kind: LayoutKind::Wide,

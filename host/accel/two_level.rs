@@ -8,24 +8,27 @@
 //! mesh's order of its object-space direction (a turned copy's dominant axis is another), one
 //! multiply-add per level entered; in those a mesh tree's escape links end in NODE_NONE. Or
 //! parent-linked sibling pairs (`parent_link`, Hapala et al. 2011), each tree starting at an
-//! even index, in which a level's walk ends when it is done with that level's root.
+//! even index, in which a level's walk ends when it is done with that level's root. Or compact
+//! threaded nodes (`compact`), each tree's boxes cells of a grid over its own root box (the top
+//! level's in the push constants, a mesh's in its instances, in object space), in which a
+//! level's walk ends where its tree does (the top level's node count, an instance's
+//! `node_end`).
 //!
 //! The walk stays stackless with O(1) more state than the one-level walk: at a top-level leaf
 //! the ray goes into object space (its direction not renormalised, so t, tmin and tmax keep
 //! their world meaning and one tmax serves both levels), walks the mesh's tree from its root,
 //! and when that tree is done continues in the top level where it would have gone after the
-//! leaf (a threaded level: the leaf's escape link; a parent-link level: the leaf's sibling or
-//! parent, and the state it enters it in) with the world ray. What it carries besides: that
-//! place, whether it is in object space, the level's root (parent-link), the instance's
-//! primitive base and mirror flag (Embree's and pbrt's instancing, without their stack).
-//! Shaders: `shaders/include/traverse_two_level.glsl` (threaded and multi-order levels, the
-//! `_two_level_threaded` build of every tracing shader) and
-//! `traverse_two_level_parent_link.glsl` (the `_two_level_parent_link` build).
+//! leaf (a threaded level: the leaf's escape link, or the next node in a compact one; a
+//! parent-link level: the leaf's sibling or parent, and the state it enters it in) with the
+//! world ray. What it carries besides: that place, whether it is in object space, the level's
+//! root (parent-link) or end and grid (compact), the instance's primitive base and mirror flag
+//! (Embree's and pbrt's instancing, without their stack). Shaders:
+//! `shaders/include/traverse_two_level.glsl` (threaded and multi-order levels, the
+//! `_two_level_threaded` build of every tracing shader), `traverse_two_level_parent_link.glsl`
+//! (`_two_level_parent_link`) and `traverse_two_level_compact.glsl` (`_two_level_compact`).
 //!
-//! The compact and wide layouts cannot be levels as they stand: a compact tree's boxes are
-//! cells of one grid over the scene (a mesh's tree in object space would need a grid of its own
-//! in each instance), and the wide walk's per-node slot state and 128-byte nodes would need a
-//! node array of their own format and a walk of their own.
+//! The wide layout cannot be a level as it stands: its walk's per-node slot state and 128-byte
+//! nodes would need a node array of their own format and a walk of their own.
 //!
 //! The scene's own triangles, which are no instance's (`scene::instance::InstanceGroup`), form
 //! one more mesh under an identity instance: its object ray is the world ray to the bit (each
@@ -33,8 +36,10 @@
 //! walk. Primitive ids are those of the expanded scene (`Scene::expanded`), so hits compare
 //! with it directly.
 
+use anyhow::Context as _;
 use glam::{Mat4, Vec3};
 
+use super::compact::{self, QuantGrid};
 use super::intersect::{intersect_box, RayPre};
 use super::leaf::{leaf_count, miss, test_leaf};
 use super::multi_order::{self, ray_order};
@@ -43,8 +48,8 @@ use super::threaded::threaded;
 use super::{FlatBvh, LayoutKind, NodeArray, MAX_FLAT_TRIANGLES};
 use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
 use crate::geom::Aabb;
-use crate::gpu_abi::constants::{INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
-use crate::gpu_abi::{GpuHit, GpuInstance, GpuNode, GpuParentNode, GpuPush, GpuRay, GpuTriangle};
+use crate::gpu_abi::constants::{COMPACT_LEAF_FLAG, INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
+use crate::gpu_abi::{GpuCompactNode, GpuHit, GpuInstance, GpuNode, GpuParentNode, GpuPush, GpuRay, GpuTriangle};
 use crate::scene::instance::{placed_box, Placement};
 use crate::scene::Scene;
 
@@ -67,6 +72,8 @@ pub struct TwoLevel {
     /// Nodes per order of the top level in the multi-order layout; 0 in the threaded one
     /// (`GpuPush::top_order_nodes`).
     pub top_order_nodes: u32,
+    /// The compact layout's grid of the top level (over its root box); zero in the others.
+    pub top_grid: QuantGrid,
 }
 
 /// The layouts a two-level BVH's levels can be laid out in: those whose walk can start at any
@@ -74,7 +81,7 @@ pub struct TwoLevel {
 /// the walk can enter a mesh's tree and come back to the top level (the module's comment says
 /// why the compact and wide layouts cannot). `LayoutInfo::two_level` names the shader build of
 /// each.
-pub const LAYOUTS: [LayoutKind; 3] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink];
+pub const LAYOUTS: [LayoutKind; 4] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact];
 
 // The shader builds (kinds.rs, read by host/build.rs) and this list name the same layouts.
 const _: () = {
@@ -99,6 +106,8 @@ pub enum LevelNodes {
     Threaded(Vec<GpuNode>),
     /// Parent-link levels.
     ParentLink(Vec<GpuParentNode>),
+    /// Compact levels.
+    Compact(Vec<GpuCompactNode>),
 }
 
 impl LevelNodes {
@@ -106,6 +115,7 @@ impl LevelNodes {
         match self {
             LevelNodes::Threaded(n) => n.len(),
             LevelNodes::ParentLink(n) => n.len(),
+            LevelNodes::Compact(n) => n.len(),
         }
     }
 
@@ -117,6 +127,7 @@ impl LevelNodes {
         match self {
             LevelNodes::Threaded(n) => bytemuck::cast_slice(n),
             LevelNodes::ParentLink(n) => bytemuck::cast_slice(n),
+            LevelNodes::Compact(n) => bytemuck::cast_slice(n),
         }
     }
 
@@ -125,18 +136,44 @@ impl LevelNodes {
         match (self, other) {
             (LevelNodes::Threaded(a), LevelNodes::Threaded(b)) => a.extend(b),
             (LevelNodes::ParentLink(a), LevelNodes::ParentLink(b)) => a.extend(b),
+            (LevelNodes::Compact(a), LevelNodes::Compact(b)) => a.extend(b),
             _ => unreachable!("a two-level BVH's levels are in one layout"),
         }
     }
 
     /// Each leaf's word (`(first << LEAF_COUNT_BITS) | count`, count > 0; the same in every
-    /// format), to relabel: a top-level leaf's to its instance, a mesh leaf's first triangle
-    /// past the meshes before it.
-    fn for_each_leaf(&mut self, f: impl FnMut(&mut u32)) {
+    /// format, a compact node's under its leaf flag) relabelled by `f`: a top-level leaf's to
+    /// its instance, a mesh leaf's first triangle past the meshes before it. Fails where a
+    /// compact leaf's new word would reach its flag bit.
+    fn relabel_leaves(&mut self, f: impl Fn(u64) -> u64) -> anyhow::Result<()> {
+        let word = |w: u32, limit: u64| {
+            let new = f(u64::from(w));
+            anyhow::ensure!(
+                new < limit,
+                "a leaf would start at item {}; the layout addresses at most {}",
+                new >> LEAF_COUNT_BITS,
+                (limit - 1) >> LEAF_COUNT_BITS
+            );
+            Ok(new as u32)
+        };
         match self {
-            LevelNodes::Threaded(n) => n.iter_mut().map(|n| &mut n.leaf).filter(|l| leaf_count(**l) != 0).for_each(f),
-            LevelNodes::ParentLink(n) => n.iter_mut().map(|n| &mut n.leaf).filter(|l| leaf_count(**l) != 0).for_each(f),
+            LevelNodes::Threaded(n) => {
+                for n in n.iter_mut().filter(|n| leaf_count(n.leaf) != 0) {
+                    n.leaf = word(n.leaf, 1 << 32)?;
+                }
+            }
+            LevelNodes::ParentLink(n) => {
+                for n in n.iter_mut().filter(|n| leaf_count(n.leaf) != 0) {
+                    n.leaf = word(n.leaf, 1 << 32)?;
+                }
+            }
+            LevelNodes::Compact(n) => {
+                for n in n.iter_mut().filter(|n| n.link & COMPACT_LEAF_FLAG != 0) {
+                    n.link = COMPACT_LEAF_FLAG | word(n.link & !COMPACT_LEAF_FLAG, u64::from(COMPACT_LEAF_FLAG))?;
+                }
+            }
         }
+        Ok(())
     }
 }
 
@@ -154,10 +191,16 @@ impl NodeArray for TwoLevel {
         match &self.nodes {
             LevelNodes::Threaded(nodes) => trace(nodes, self.top_order_nodes, tris, &self.instances, ray, any_hit),
             LevelNodes::ParentLink(nodes) => trace_parent_link(nodes, tris, &self.instances, ray, any_hit),
+            LevelNodes::Compact(nodes) => trace_compact(nodes, self.top_nodes as u32, &self.top_grid, tris, &self.instances, ray, any_hit),
         }
     }
     fn fill_push(&self, push: &mut GpuPush) {
         push.top_order_nodes = self.top_order_nodes;
+        if let LevelNodes::Compact(_) = self.nodes {
+            push.top_nodes = self.top_nodes as u32;
+            push.grid_origin = self.top_grid.origin.to_array();
+            push.grid_scale = self.top_grid.scale.to_array();
+        }
     }
     fn instances(&self) -> &[GpuInstance] {
         &self.instances
@@ -194,14 +237,34 @@ pub fn meshes(scene: &Scene) -> Vec<Mesh> {
     meshes
 }
 
+/// One level's tree as laid out for the node array.
+struct Level {
+    /// Its nodes (every order's).
+    nodes: LevelNodes,
+    /// Nodes per order (0 for the layouts with one order).
+    per_order: u32,
+    /// Its grid in the compact layout (zero in the others).
+    grid: QuantGrid,
+}
+
 /// A level's tree laid out in `layout` (one of [`LAYOUTS`]) for a node array in which it
-/// starts at `base` (even: every tree's array has an even length in the parent-link layout):
-/// its nodes (every order's) and its nodes per order (0 for the layouts with one order).
-fn lay_out(tree: &Bvh, layout: LayoutKind, base: u32) -> anyhow::Result<(LevelNodes, u32)> {
+/// starts at `base` (even: every tree's array has an even length in the parent-link layout).
+fn lay_out(tree: &Bvh, layout: LayoutKind, base: u32) -> anyhow::Result<Level> {
+    let one = |nodes| Level { nodes, per_order: 0, grid: QuantGrid::default() };
     Ok(match layout {
-        LayoutKind::MultiOrder => (LevelNodes::Threaded(multi_order::orders(tree, base)), tree.nodes.len() as u32),
-        LayoutKind::ParentLink => (LevelNodes::ParentLink(parent_link::flatten_at(tree, base)?), 0),
-        _ => (LevelNodes::Threaded(threaded(tree, |_, l, r| (l, r), base)), 0),
+        LayoutKind::MultiOrder => {
+            Level { nodes: LevelNodes::Threaded(multi_order::orders(tree, base)), per_order: tree.nodes.len() as u32, grid: QuantGrid::default() }
+        }
+        LayoutKind::ParentLink => one(LevelNodes::ParentLink(parent_link::flatten_at(tree, base)?)),
+        LayoutKind::Compact => {
+            // The tree alone, then its interior nodes' escapes (its node count past its last
+            // node: where the level ends) moved by `base`; leaves escape to the next node.
+            let (mut nodes, grid) = compact::from_threaded(&threaded(tree, |_, l, r| (l, r), 0))?;
+            anyhow::ensure!(u64::from(base) + nodes.len() as u64 <= u64::from(COMPACT_LEAF_FLAG), "the compact layout addresses fewer than 2^31 nodes");
+            nodes.iter_mut().filter(|n| n.link & COMPACT_LEAF_FLAG == 0).for_each(|n| n.link += base);
+            Level { nodes: LevelNodes::Compact(nodes), per_order: 0, grid }
+        }
+        _ => one(LevelNodes::Threaded(threaded(tree, |_, l, r| (l, r), base))),
     })
 }
 
@@ -240,14 +303,18 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig, layout
     // The top level: one instance per leaf.
     let centroids: Vec<Vec3> = world_boxes.iter().map(|b| b.center()).collect();
     let top = bvh::build(builder, &world_boxes, &centroids, &BuildConfig { max_leaf_size: 1, ..*config });
-    let (mut nodes, top_order_nodes) = lay_out(&top, layout, 0)?;
-    nodes.for_each_leaf(|leaf| *leaf = (top.prim_indices[(*leaf >> LEAF_COUNT_BITS) as usize] << LEAF_COUNT_BITS) | 1);
+    let Level { mut nodes, per_order: top_order_nodes, grid: top_grid } = lay_out(&top, layout, 0)?;
+    nodes
+        .relabel_leaves(|leaf| (u64::from(top.prim_indices[(leaf >> LEAF_COUNT_BITS) as usize]) << LEAF_COUNT_BITS) | 1)
+        .context("the top level's instances")?;
     let top_nodes = nodes.len();
     let top_sah = bvh::stats::stats(&top).sah_cost;
 
     // Every mesh's tree after it, its leaves' triangles after the meshes before it.
     let mut roots = Vec::with_capacity(meshes.len());
     let mut order_nodes = Vec::with_capacity(meshes.len());
+    let mut grids = Vec::with_capacity(meshes.len());
+    let mut ends = Vec::with_capacity(meshes.len());
     let mut shading_bases = Vec::with_capacity(meshes.len());
     let mut triangles = Vec::with_capacity(triangle_total);
     for (m, tree) in meshes.iter().zip(&trees) {
@@ -255,12 +322,14 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig, layout
         shading_bases.push(triangles.len() as u32);
         let too_many = || anyhow::anyhow!("the two-level BVH has more than 2^32 nodes");
         let base = u32::try_from(nodes.len()).map_err(|_| too_many())?;
-        let (mut tree_nodes, per_order) = lay_out(tree, layout, base)?;
-        u32::try_from(nodes.len() + tree_nodes.len()).map_err(|_| too_many())?;
+        let Level { nodes: mut tree_nodes, per_order, grid } = lay_out(tree, layout, base)?;
+        let end = u32::try_from(nodes.len() + tree_nodes.len()).map_err(|_| too_many())?;
         roots.push(base);
         order_nodes.push(per_order);
-        let tri_base = triangles.len() as u32;
-        tree_nodes.for_each_leaf(|leaf| *leaf += tri_base << LEAF_COUNT_BITS);
+        grids.push(grid);
+        ends.push(if layout == LayoutKind::Compact { end } else { 0 });
+        let tri_base = triangles.len() as u64;
+        tree_nodes.relabel_leaves(|leaf| leaf + (tri_base << LEAF_COUNT_BITS)).context("the meshes' triangles")?;
         nodes.append(tree_nodes);
         triangles.extend(tree.prim_indices.iter().map(|&i| {
             let p = m.positions[i as usize];
@@ -278,14 +347,14 @@ pub fn build(meshes: &[Mesh], builder: BuilderKind, config: &BuildConfig, layout
                 prim_base,
                 flags: if mirrored { INSTANCE_MIRRORED } else { 0 },
                 shading_base: shading_bases[mesh],
+                grid_origin: grids[mesh].origin.to_array(),
                 order_nodes: order_nodes[mesh],
-                _pad0: 0,
-                _pad1: 0,
-                _pad2: 0,
+                grid_scale: grids[mesh].scale.to_array(),
+                node_end: ends[mesh],
             }
         })
         .collect();
-    Ok((TwoLevel { nodes, top_nodes, instances, meshes: meshes.len(), top_sah, layout, top_order_nodes }, triangles))
+    Ok((TwoLevel { nodes, top_nodes, instances, meshes: meshes.len(), top_sah, layout, top_order_nodes, top_grid }, triangles))
 }
 
 impl TwoLevel {
@@ -431,6 +500,73 @@ pub fn trace_parent_link(nodes: &[GpuParentNode], tris: &[GpuTriangle], instance
                 (in_object, root, r, dir) = (false, 0, world, world_dir);
             }
         }
+    }
+    hit
+}
+
+/// `traverse` in traverse_two_level_compact.glsl: [`trace`] with compact levels, the top
+/// level's `top_nodes` nodes from 0 on `top_grid`, each mesh's from its instance's root to its
+/// `node_end` on the instance's grid: the compact walk (`compact::trace`) of each, the top
+/// level going on at the node after the leaf it left.
+pub fn trace_compact(
+    nodes: &[GpuCompactNode],
+    top_nodes: u32,
+    top_grid: &QuantGrid,
+    tris: &[GpuTriangle],
+    instances: &[GpuInstance],
+    ray: &GpuRay,
+    any_hit: bool,
+) -> GpuHit {
+    let world = RayPre::new(ray);
+    let mut r = world;
+    let mut hit = miss();
+    let mut tmax = ray.tmax;
+    // A level's end, never past the array (as the shader bounds it by its node count).
+    let count = u32::try_from(nodes.len()).unwrap_or(u32::MAX);
+    let (mut index, mut end, mut grid) = (0u32, top_nodes.min(count), *top_grid);
+    // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
+    let mut in_object = false;
+    let mut resume = 0u32;
+    let (mut prim_base, mut mirrored) = (0u32, false);
+    loop {
+        if index >= end {
+            if !in_object {
+                break;
+            }
+            (index, end, grid, r, in_object) = (resume, top_nodes.min(count), *top_grid, world, false);
+            continue;
+        }
+        let Some(node) = nodes.get(index as usize) else { break };
+        hit.nodes_visited += 1;
+        let leaf = node.link & COMPACT_LEAF_FLAG != 0;
+        let (bmin, bmax) = node.bounds(&grid);
+        if intersect_box(&r, bmin, bmax, tmax).is_none() {
+            index = if leaf { index + 1 } else { node.link };
+            continue;
+        }
+        if !leaf {
+            index += 1;
+            continue;
+        }
+        let word = node.link & !COMPACT_LEAF_FLAG;
+        if !in_object {
+            let Some(instance) = instances.get((word >> LEAF_COUNT_BITS) as usize) else { break };
+            r = RayPre::new(&object_ray(instance, ray));
+            (resume, index, end, in_object) = (index + 1, instance.root, instance.node_end.min(count), true);
+            grid = QuantGrid { origin: instance.grid_origin.into(), scale: instance.grid_scale.into() };
+            (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+            continue;
+        }
+        if test_leaf(word, tris, &r, &mut tmax, &mut hit, any_hit) {
+            hit.prim += prim_base;
+            if mirrored {
+                (hit.u, hit.v) = (hit.v, hit.u);
+            }
+            if any_hit {
+                return hit;
+            }
+        }
+        index += 1;
     }
     hit
 }

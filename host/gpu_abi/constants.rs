@@ -100,7 +100,7 @@ shared_constants! {
     /// largest triangles, kept out of the BVH and tested by every ray before its walk
     /// (`crate::accel::triangle_list`).
     BINDING_TRIANGLE_LIST = 43;
-    /// A two-level BVH's instances (`GpuInstance[]`, 8 texels each; the
+    /// A two-level BVH's instances (`GpuInstance[]`, 9 texels each; the
     /// `_two_level_<id>` builds of the tracing shaders only).
     BINDING_INSTANCES = 44;
     /// `GpuInstance::flags`: the instance's transform mirrors.

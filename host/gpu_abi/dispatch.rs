@@ -79,7 +79,9 @@ gpu_structs! {
         /// nodes per order of its top level (order `k` starts at `k * top_order_nodes`); 0 for
         /// threaded levels and for the one-level layouts.
         pub top_order_nodes: u32,
-        pub _pad0: u32,
+        /// A two-level BVH laid out in the compact layout: nodes of its top level (its walk
+        /// ends there; `grid_origin` and `grid_scale` are its grid); 0 otherwise.
+        pub top_nodes: u32,
         pub _pad1: u32,
         pub _pad2: u32,
     }

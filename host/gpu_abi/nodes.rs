@@ -104,12 +104,16 @@ gpu_structs! {
         /// Where its mesh's shading data starts (BINDING_SHADING, BINDING_UVS,
         /// BINDING_TANGENTS hold one block per mesh, in object space).
         pub shading_base: u32,
+        /// The compact layout's grid of the mesh's tree (`crate::accel::compact::QuantGrid`,
+        /// over its root box in object space); zero in the other layouts.
+        pub grid_origin: [f32; 3],
         /// Nodes per order of the mesh's tree where it is laid out in the multi-order layout's
-        /// six orders (order `k` starts at `root + k * order_nodes`); 0 in the threaded one.
+        /// six orders (order `k` starts at `root + k * order_nodes`); 0 in the others.
         pub order_nodes: u32,
-        pub _pad0: u32,
-        pub _pad1: u32,
-        pub _pad2: u32,
+        pub grid_scale: [f32; 3],
+        /// Where the mesh's tree ends in the compact layout (`root` plus its nodes: its walk
+        /// ends there); 0 in the others.
+        pub node_end: u32,
     }
 }
 
@@ -118,4 +122,4 @@ const _: () = assert!(std::mem::size_of::<GpuParentNode>() == 32);
 const _: () = assert!(std::mem::size_of::<GpuCompactNode>() == 16);
 const _: () = assert!(std::mem::size_of::<GpuWideNode>() == 128);
 const _: () = assert!(std::mem::size_of::<GpuTriangle>() == 48);
-const _: () = assert!(std::mem::size_of::<GpuInstance>() == 128);
+const _: () = assert!(std::mem::size_of::<GpuInstance>() == 144);

@@ -332,7 +332,7 @@ fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTrian
 
 /// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the
 /// layout is one a two-level BVH's levels are laid out in (`accel::two_level::LAYOUTS`:
-/// threaded, multi-order, parent-link); another layout walks the expanded copies.
+/// threaded, multi-order, parent-link, compact); the wide layout walks the expanded copies.
 pub fn walks_two_levels(scene: &Scene, layout: LayoutKind) -> bool {
     !scene.instances.is_empty() && accel::two_level::LAYOUTS.contains(&layout)
 }

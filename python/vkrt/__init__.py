@@ -256,7 +256,7 @@ def _trace(
     ``layout``: the BVH layout to walk (``LAYOUTS``); default the scene's if ``load_scene`` was
     given one, else ``vkrt trace``'s default (copies of a mesh, the lab YAML's ``Instances``
     or a glTF mesh placed more than once, are walked through their two-level BVH in the
-    threaded, multi-order and parent-link layouts). The same bits as ``vkrt trace`` for every builder and
+    threaded, multi-order, parent-link and compact layouts). The same bits as ``vkrt trace`` for every builder and
     layout. Raises ``ValueError`` for wrong shapes and non-finite or zero rays.
     """
     if directions is None:

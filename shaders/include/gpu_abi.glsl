@@ -55,10 +55,10 @@ struct GpuInstance {
     uint prim_base;
     uint flags;
     uint shading_base;
+    vec3 grid_origin;
     uint order_nodes;
-    uint _pad0;
-    uint _pad1;
-    uint _pad2;
+    vec3 grid_scale;
+    uint node_end;
 };
 
 struct GpuShading {
@@ -177,7 +177,7 @@ struct GpuPush {
     uint list_first;
     uint list_count;
     uint top_order_nodes;
-    uint _pad0;
+    uint top_nodes;
     uint _pad1;
     uint _pad2;
 };

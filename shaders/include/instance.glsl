@@ -4,9 +4,9 @@
 #define VKRT_INSTANCE_GLSL
 #include "bvh_bindings.glsl"
 
-// GpuInstance, 128 B: three world-to-object rows, three object-to-world rows, then root,
-// prim_base, flags, shading_base; order_nodes and padding.
-#define INSTANCE_TEXELS 8u
+// GpuInstance, 144 B: three world-to-object rows, three object-to-world rows, then root,
+// prim_base, flags, shading_base; grid_origin, order_nodes; grid_scale, node_end.
+#define INSTANCE_TEXELS 9u
 layout(set = 0, binding = BINDING_INSTANCES) uniform utextureBuffer instance_texels;
 
 GpuInstance load_instance(uint i) {
@@ -21,10 +21,11 @@ GpuInstance load_instance(uint i) {
     inst.flags = w.z;
     inst.shading_base = w.w;
     uvec4 x = texelFetch(instance_texels, int(INSTANCE_TEXELS * i + 7u));
-    inst.order_nodes = x.x;
-    inst._pad0 = 0u;
-    inst._pad1 = 0u;
-    inst._pad2 = 0u;
+    inst.grid_origin = uintBitsToFloat(x.xyz);
+    inst.order_nodes = x.w;
+    uvec4 y = texelFetch(instance_texels, int(INSTANCE_TEXELS * i + 8u));
+    inst.grid_scale = uintBitsToFloat(y.xyz);
+    inst.node_end = y.w;
     return inst;
 }
 

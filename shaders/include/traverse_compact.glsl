@@ -13,13 +13,22 @@ GpuCompactNode load_node(uint i) {
     return GpuCompactNode(a.x, a.y, a.z, a.w);
 }
 
-// Corners of cells q: a product and a sum, never fused (`precise`), exactly as
-// QuantGrid::decode computes them.
-vec3 decode_cells(uvec3 q) {
-    precise vec3 corner = push.grid_origin + vec3(q) * push.grid_scale;
+// Corners of cells q of the grid (origin, scale): a product and a sum, never fused (`precise`),
+// exactly as QuantGrid::decode computes them.
+vec3 decode_cells_on(uvec3 q, vec3 origin, vec3 scale) {
+    precise vec3 corner = origin + vec3(q) * scale;
     return corner;
 }
 
+// The same on the scene's grid.
+vec3 decode_cells(uvec3 q) {
+    return decode_cells_on(q, push.grid_origin, push.grid_scale);
+}
+
+#ifdef TWO_LEVEL
+// Instanced meshes under a top level (accel::two_level), both levels compact.
+#include "traverse_two_level_compact.glsl"
+#else
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin, tmax);
     Hit hit = hit_none();
@@ -47,5 +56,6 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     }
     return hit;
 }
+#endif
 
 #endif

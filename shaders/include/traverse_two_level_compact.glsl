@@ -1,0 +1,96 @@
+// The two-level walk over instanced meshes with compact levels (the `_two_level_compact` build of
+// every tracing shader: TWO_LEVEL with LAYOUT_COMPACT): a compact threaded top level over the
+// instances' world boxes, its boxes cells of a grid over its root box (push.grid_origin,
+// push.grid_scale; its push.top_nodes nodes from 0), whose leaves each name an instance, and a
+// compact tree per mesh in object space, its boxes cells of a grid over the mesh's root box (the
+// instance's grid_origin, grid_scale; its nodes from the instance's root to its node_end). Each
+// level is the compact walk of traverse_compact.glsl. CPU twin: accel::two_level::trace_compact
+// (host/accel/two_level.rs), which says why it is built so.
+//
+// Stackless with O(1) more state than the compact walk: at a top-level leaf the ray goes into the
+// instance's object space (direction not renormalised: t, tmin and tmax keep their world
+// meaning), walks the mesh's tree on the mesh's grid until its end, and goes on in the top level
+// at the node after the leaf, on the top level's grid, with the world ray again.
+#ifndef VKRT_TRAVERSE_TWO_LEVEL_COMPACT_GLSL
+#define VKRT_TRAVERSE_TWO_LEVEL_COMPACT_GLSL
+#include "instance.glsl"
+
+Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
+    const uint cell_mask = (1u << COMPACT_CELL_BITS) - 1u;
+    float tmax0 = tmax;
+    RayPre world = ray_pre(origin, dir, tmin, tmax);
+    RayPre r = world;
+    Hit hit = hit_none();
+    uint index = 0u;
+    uint end = min(push.top_nodes, node_count());
+    vec3 grid_origin = push.grid_origin;
+    vec3 grid_scale = push.grid_scale;
+    // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
+    bool in_object = false;
+    uint resume = 0u;
+    uint prim_base = 0u;
+    bool mirrored = false;
+    uint instance = 0u;
+    while (true) {
+        if (index >= end) {
+            if (!in_object) break;
+            index = resume;
+            end = min(push.top_nodes, node_count());
+            grid_origin = push.grid_origin;
+            grid_scale = push.grid_scale;
+            r = world;
+            in_object = false;
+            leaf_shading_base = 0u;
+            continue;
+        }
+        GpuCompactNode node = load_node(index);
+        hit.nodes_visited++;
+        bool leaf = (node.link & COMPACT_LEAF_FLAG) != 0u;
+        vec3 bmin = decode_cells_on(uvec3(node.min_xy & cell_mask, node.min_xy >> COMPACT_CELL_BITS, node.min_z_max_x & cell_mask), grid_origin, grid_scale);
+        vec3 bmax = decode_cells_on(uvec3(node.min_z_max_x >> COMPACT_CELL_BITS, node.max_yz & cell_mask, node.max_yz >> COMPACT_CELL_BITS), grid_origin, grid_scale);
+        float t_enter;
+        if (!intersect_box(r, bmin, bmax, tmax, t_enter)) {
+            // A leaf's escape is the next node in pre-order.
+            index = leaf ? index + 1u : node.link;
+            continue;
+        }
+        if (!leaf) {
+            index++;
+            continue;
+        }
+        uint word = node.link & ~COMPACT_LEAF_FLAG;
+        if (!in_object) {
+            instance = word >> LEAF_COUNT_BITS;
+            GpuInstance inst = load_instance(instance);
+            r = ray_pre(transform_point(inst.world_to_object, origin), transform_dir(inst.world_to_object, dir), tmin, tmax0);
+            resume = index + 1u;
+            index = inst.root;
+            end = min(inst.node_end, node_count());
+            grid_origin = inst.grid_origin;
+            grid_scale = inst.grid_scale;
+            prim_base = inst.prim_base;
+            mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
+            leaf_shading_base = inst.shading_base;
+            in_object = true;
+            continue;
+        }
+        if (test_leaf(word, r, tmax, hit, any_hit)) {
+            hit.prim += prim_base;
+            hit.instance = instance;
+            hit.mirrored = mirrored;
+            if (mirrored) {
+                float u = hit.u;
+                hit.u = hit.v;
+                hit.v = u;
+            }
+            if (any_hit) {
+                leaf_shading_base = 0u;
+                return hit;
+            }
+        }
+        index++;
+    }
+    return hit;
+}
+
+#endif
