@@ -1,5 +1,5 @@
 //! The two-level BVH over instanced meshes (`accel::two_level`, issue 44), in each layout its
-//! levels take (threaded, multi-order, parent-link, compact): its walk on the GPU (the tracing shaders'
+//! levels take (every layout: threaded, multi-order, parent-link, compact, wide): its walk on the GPU (the tracing shaders'
 //! `_two_level_<id>` builds) against its CPU twin, hit for hit and counter for counter, and
 //! both against the expanded scene the loaders make of the same copies.
 
@@ -187,69 +187,81 @@ fn multi_order_levels_walk_each_copy_in_the_order_of_its_own_space() {
     assert!(nodes_multi < nodes_threaded, "multi-order {nodes_multi} nodes against threaded {nodes_threaded}");
 }
 
-/// Parent-link levels: each tree starts at an even index (siblings are the pairs 2k, 2k + 1),
-/// and a turned, unevenly scaled copy is walked as the mesh's own one-level parent-link tree
-/// walks the object-space ray, node for node: its children are ordered by the object-space
-/// direction, and the walk ends where that tree is done.
+/// Parent-link and wide levels, whose walks order a node's children by the ray's direction: a
+/// turned, unevenly scaled copy is walked as the mesh's own one-level tree in that layout walks
+/// the object-space ray, node for node (its children ordered by the object-space direction,
+/// the walk ending where that tree is done). Parent-link trees start at even indices (siblings
+/// are the pairs 2k, 2k + 1).
 #[test]
-fn parent_link_levels_walk_a_copy_as_its_mesh_s_own_tree_walks_the_object_space_ray() {
-    use vkrt::accel::parent_link;
+fn parent_link_and_wide_levels_walk_a_copy_as_its_mesh_s_own_tree_walks_the_object_space_ray() {
     use vkrt::accel::two_level::object_ray;
+    use vkrt::accel::{parent_link, wide, NodeArray};
     use vkrt::geom::Aabb;
     use vkrt::gpu_abi::GpuTriangle;
 
     let sphere = icosphere(3).to_triangles(1.0, Vec3::ZERO, 0);
     let mut scene = Scene::default();
     add_group(&mut scene, &sphere, vec![Placement::from_trs(Vec3::new(1.0, 2.0, 3.0), Vec3::new(30.0, 70.0, -20.0), Vec3::new(2.0, 0.5, 1.0)).unwrap()]);
-    let options = PrepareOptions { layout: LayoutKind::ParentLink, ..PrepareOptions::default() };
-    let flat = build_two_level(&scene, &options).unwrap().0;
-    let instance = flat.nodes.instances()[0];
-    assert_eq!((instance.root % 2, instance.root), (0, 2), "one top-level leaf and its filler, then the mesh's tree");
+    // (layout, where the mesh's tree starts, top-level visits of a ray that enters the copy):
+    // the parent-link top level is a leaf and its filler, visited once; the wide one a node
+    // with one slot, visited again when the mesh's tree is done.
+    for (layout, root, top_visits) in [(LayoutKind::ParentLink, 2, 1), (LayoutKind::Wide, 1, 2)] {
+        let options = PrepareOptions { layout, ..PrepareOptions::default() };
+        let flat = build_two_level(&scene, &options).unwrap().0;
+        let instance = flat.nodes.instances()[0];
+        assert_eq!(instance.root, root, "{}: one top-level node, then the mesh's tree", layout.name());
 
-    // The mesh's own tree, by the same builder, in the one-level parent-link layout.
-    let positions: Vec<[Vec3; 3]> = scene.instances[0].mesh.iter().map(|t| t.p).collect();
-    let boxes: Vec<Aabb> = positions.iter().map(|p| Aabb::from_points(p)).collect();
-    let centroids: Vec<Vec3> = positions.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
-    let tree = vkrt::bvh::build(options.builder, &boxes, &centroids, &options.build);
-    let own = parent_link::flatten(&tree).unwrap();
-    let tris: Vec<GpuTriangle> = tree
-        .prim_indices
-        .iter()
-        .map(|&i| {
-            let p = positions[i as usize];
-            GpuTriangle { v0: p[0].to_array(), prim: i, v1: p[1].to_array(), shading: i, v2: p[2].to_array(), _pad1: 0 }
-        })
-        .collect();
-    assert_eq!(flat.node_count(), 2 + own.len());
+        // The mesh's own tree, by the same builder, in the one-level layout.
+        let positions: Vec<[Vec3; 3]> = scene.instances[0].mesh.iter().map(|t| t.p).collect();
+        let boxes: Vec<Aabb> = positions.iter().map(|p| Aabb::from_points(p)).collect();
+        let centroids: Vec<Vec3> = positions.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).collect();
+        let tree = vkrt::bvh::build(options.builder, &boxes, &centroids, &options.build);
+        let own: Box<dyn NodeArray> = match layout {
+            LayoutKind::ParentLink => Box::new(parent_link::ParentLink(parent_link::flatten(&tree).unwrap())),
+            _ => Box::new(wide::Wide(wide::flatten(&tree).unwrap())),
+        };
+        let tris: Vec<GpuTriangle> = tree
+            .prim_indices
+            .iter()
+            .map(|&i| {
+                let p = positions[i as usize];
+                GpuTriangle { v0: p[0].to_array(), prim: i, v1: p[1].to_array(), shading: i, v2: p[2].to_array(), _pad1: 0 }
+            })
+            .collect();
+        assert_eq!(flat.node_count(), root as usize + own.count());
 
-    let mut rng = Pcg32::new(21);
-    let (mut walked, mut reordered) = (0, 0);
-    for _ in 0..3000 {
-        let origin = Vec3::new(1.0, 2.0, 3.0) + rng.unit_vector() * 12.0;
-        let target = Vec3::new(1.0, 2.0, 3.0) + rng.unit_vector() * rng.range(0.0, 2.5);
-        let ray = GpuRay { origin: origin.to_array(), tmin: 0.0, direction: (target - origin).to_array(), tmax: f32::INFINITY };
-        for any_hit in [false, true] {
-            let got = flat.trace(&ray, any_hit);
-            let object = object_ray(&instance, &ray);
-            let expected = parent_link::trace(&own, &tris, &object, any_hit);
-            assert_eq!(
-                (got.t.to_bits(), got.prim, got.u.to_bits(), got.v.to_bits()),
-                (expected.t.to_bits(), expected.prim, expected.u.to_bits(), expected.v.to_bits()),
-                "{ray:?}"
-            );
-            // The top level's root (a leaf) is one visit more; a ray that misses its box walks nothing else.
-            if got.nodes_visited > 1 {
-                assert_eq!((got.nodes_visited, got.tris_tested), (expected.nodes_visited + 1, expected.tris_tested), "{ray:?}");
-                walked += 1;
+        let mut rng = Pcg32::new(21);
+        let (mut walked, mut reordered) = (0, 0);
+        for _ in 0..3000 {
+            let origin = Vec3::new(1.0, 2.0, 3.0) + rng.unit_vector() * 12.0;
+            let target = Vec3::new(1.0, 2.0, 3.0) + rng.unit_vector() * rng.range(0.0, 2.5);
+            let ray = GpuRay { origin: origin.to_array(), tmin: 0.0, direction: (target - origin).to_array(), tmax: f32::INFINITY };
+            for any_hit in [false, true] {
+                let got = flat.trace(&ray, any_hit);
+                let object = object_ray(&instance, &ray);
+                let expected = own.trace(&tris, &object, any_hit);
+                assert_eq!(
+                    (got.t.to_bits(), got.prim, got.u.to_bits(), got.v.to_bits()),
+                    (expected.t.to_bits(), expected.prim, expected.u.to_bits(), expected.v.to_bits()),
+                    "{}: {ray:?}",
+                    layout.name()
+                );
+                // A ray that misses the copy's world box visits the top level's node alone; an
+                // any-hit query that hits the copy stops in it, before coming back.
+                if got.nodes_visited > 1 {
+                    let top = if any_hit && got.prim != PRIM_NONE { 1 } else { top_visits };
+                    assert_eq!((got.nodes_visited, got.tris_tested), (expected.nodes_visited + top, expected.tris_tested), "{}: {ray:?}", layout.name());
+                    walked += 1;
+                }
             }
+            // Rays for which the world direction would order some nodes' children the other way
+            // (a node's near child or first slot is the one on the direction's side of its axis).
+            let (world, object) = (Vec3::from(ray.direction), Vec3::from(object_ray(&instance, &ray).direction));
+            reordered += usize::from((0..3).any(|a| (world[a] >= 0.0) != (object[a] >= 0.0)));
         }
-        // Rays for which the world direction would order some nodes' children the other way
-        // (a node's near child is the one on the direction's side of its split axis).
-        let (world, object) = (Vec3::from(ray.direction), Vec3::from(object_ray(&instance, &ray).direction));
-        reordered += usize::from((0..3).any(|a| (world[a] >= 0.0) != (object[a] >= 0.0)));
+        assert!(walked > 4000, "{}: {walked} walks compared", layout.name());
+        assert!(reordered > 1000, "{reordered} rays with a direction component whose sign the copy's turn changes");
     }
-    assert!(walked > 4000, "{walked} walks compared");
-    assert!(reordered > 1000, "{reordered} rays with a direction component whose sign the copy's turn changes");
 }
 
 /// Compact levels: each mesh's boxes are cells of a grid over its own root box in object space
@@ -392,10 +404,9 @@ fn write_yaml_scene(dir: &std::path::Path) -> std::path::PathBuf {
     path
 }
 
-/// `vkrt trace` walks a scene's instances through the two-level BVH (multi-order levels, as it
-/// walks a one-level scene in the multi-order layout) unless a layout that takes no two
-/// levels is asked for, and hits what the expanded scene's walk hits; `vkrt bvh` adds a row
-/// for each two-level layout asked for.
+/// `vkrt trace` walks a scene's instances through the two-level BVH (wide levels by default,
+/// any other layout when asked), and hits what the expanded scene's walk hits; `vkrt bvh` adds
+/// a row for each two-level layout asked for.
 #[test]
 fn trace_and_bvh_commands_take_instanced_scenes() {
     use vkrt::bvh::BuilderKind;
@@ -414,15 +425,24 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
         (report, read_hits(&output).unwrap())
     };
     let (two, two_hits) = trace(None, "two-level.npy");
-    let (one, one_hits) = trace(Some(LayoutKind::Wide), "expanded.npy");
-    assert_eq!(two.hits, one.hits);
+    // The expanded scene's one-level tree, walked on the CPU.
+    let expanded = scene.expanded().unwrap();
+    let one_level = vkrt::prepare::build_bvh(&expanded, &PrepareOptions::default()).unwrap().0;
+    let one_hits: Vec<GpuHit> = rays.iter().map(|r| one_level.trace(r, false)).collect();
+    assert_eq!(two.hits as usize, one_hits.iter().filter(|h| h.prim != PRIM_NONE).count());
     assert!(two.hits > 1000, "{two:?}");
     let same = two_hits.iter().zip(&one_hits).filter(|(a, b)| a.prim == b.prim).count();
     assert!(same as f64 >= 0.999 * rays.len() as f64, "{same} of {} on the same triangle", rays.len());
-    // Same counters as the CPU twin of the multi-order two-level walk, so it was that walk.
-    let flat = two_level_in(&scene, LayoutKind::MultiOrder);
+    // Same counters as the CPU twin of the wide two-level walk, so it was that walk.
+    let flat = two_level_in(&scene, LayoutKind::Wide);
     let nodes: u64 = rays.iter().map(|r| u64::from(flat.trace(r, false).nodes_visited)).sum();
     assert_eq!(two.nodes_visited, nodes);
+    // Another layout when asked: multi-order levels, the same hits.
+    let (multi, multi_hits) = trace(Some(LayoutKind::MultiOrder), "multi-order.npy");
+    let flat = two_level_in(&scene, LayoutKind::MultiOrder);
+    let multi_nodes: u64 = rays.iter().map(|r| u64::from(flat.trace(r, false).nodes_visited)).sum();
+    assert_eq!((multi.hits, multi.nodes_visited), (two.hits, multi_nodes));
+    assert!(multi_hits.iter().zip(&two_hits).all(|(a, b)| a.t.to_bits() == b.t.to_bits()));
 
     let args = vkrt::cli::bvh::BvhArgs {
         scenes: vec![scene_path.clone()],
@@ -439,9 +459,9 @@ fn trace_and_bvh_commands_take_instanced_scenes() {
     };
     let ctx = common::gpu_context();
     let rows = vkrt::cli::bvh::scene_rows(&ctx, &scene_path, &scene, &args).unwrap();
-    let names = ["threaded", "multi-order", "parent-link", "wide", "two-level-threaded", "two-level-multi-order", "two-level-parent-link"];
+    let names = ["threaded", "multi-order", "parent-link", "wide", "two-level-threaded", "two-level-multi-order", "two-level-parent-link", "two-level-wide"];
     assert_eq!(rows.iter().map(|r| r.layout_name()).collect::<Vec<_>>(), names);
-    for (two, one) in [(4, 0), (5, 1), (6, 2)] {
+    for (two, one) in [(4, 0), (5, 1), (6, 2), (7, 3)] {
         let counts = rows[two].two_level.unwrap();
         assert_eq!((counts.instances, counts.meshes), (9, 3), "eight copies and the ground; two meshes and the ground");
         assert_eq!(counts.bottom_triangles, 108 + 320 + 2);
@@ -706,8 +726,8 @@ fn normal_mapped_copies_shade_as_the_expanded_ones() {
 }
 
 /// More triangles than a one-level tree takes (2^28): 900 copies of a 327,680-triangle sphere,
-/// 295 M triangles, held as one mesh. The scene loads and renders through the two-level BVH;
-/// a one-level layout is refused with the count and the layouts that walk it.
+/// 295 M triangles, held as one mesh. The scene loads and renders through the two-level BVH in
+/// every layout; placing its copies for a one-level tree is refused with the count.
 #[test]
 fn copies_past_the_one_level_bound_render_through_the_two_level_bvh_only() {
     let ball = icosphere(7).to_triangles(1.0, Vec3::ZERO, 0);
@@ -718,9 +738,8 @@ fn copies_past_the_one_level_bound_render_through_the_two_level_bvh_only() {
     assert!(scene.placed_triangles() > vkrt::scene::assemble::MAX_PLACED_TRIANGLES);
     let e = scene.expanded().unwrap_err();
     assert!(e.contains("294912002") && e.contains("268435456"), "{e}");
-    let options = PrepareOptions { layout: LayoutKind::Wide, ..PrepareOptions::default() };
-    let e = format!("{:#}", vkrt::prepare::PreparedScene::new(&scene, &options).unwrap_err());
-    assert!(e.contains("laying the scene out as wide (the threaded, multi-order, parent-link, compact layouts walk instances"), "{e}");
+    let e = format!("{:#}", vkrt::prepare::build_bvh(&scene, &PrepareOptions::default()).unwrap_err());
+    assert!(e.contains("placing the scene's copies for a one-level BVH in the threaded layout") && e.contains("294912002"), "{e}");
 
     let ctx = common::gpu_context();
     let gpu = common::upload(&ctx, &scene);

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
-"""The two-level BVH's levels in each layout that takes them (issue 44: threaded, multi-order,
-parent-link, compact): three instanced scenes written by tools/make_instanced_scene.py (copies turned about the vertical and
+"""The two-level BVH's levels in each layout (issue 44: threaded, multi-order, parent-link,
+compact, wide): three instanced scenes written by tools/make_instanced_scene.py (copies turned about the vertical and
 scaled, so that a copy's object-space axes are not the world's), each traced by `vkrt trace`
 with camera rays (1024x768) and incoherent rays (1M) and rendered by the path tracer (320x240,
 64 spp), the layouts in turn, ROUNDS rounds. Prints a Markdown table of medians:
 traversal rays/s (device timestamps), nodes visited per ray, and path render seconds.
 
     python3 tools/bench-two-level-layouts.py [--rounds 3] [--vkrt target/release/vkrt] [--no-path]
-        [--layouts threaded,multi-order,parent-link,compact]
+        [--layouts threaded,multi-order,parent-link,compact,wide]
 """
 import argparse
 import os
@@ -24,7 +24,7 @@ SCENES = [
     ("bunny x 400", "stanford-bunny/bunny.obj", 400),
     ("buddha x 1000", "happy-buddha-100k/buddha.obj", 1000),
 ]
-LAYOUTS = ["threaded", "multi-order", "parent-link", "compact"]
+LAYOUTS = ["threaded", "multi-order", "parent-link", "compact", "wide"]
 
 
 def run(cmd):

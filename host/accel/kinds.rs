@@ -84,7 +84,7 @@ pub const LAYOUTS: [LayoutInfo; 5] = [
         define: "LAYOUT_WIDE",
         node_struct: "GpuWideNode",
         help: "A 4-ary BVH collapsed from the binary one: four boxes per visit, 128 B per node, children ordered per node",
-        two_level: None,
+        two_level: Some(LayoutKind::Wide),
     },
 ];
 

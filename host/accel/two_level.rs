@@ -12,23 +12,23 @@
 //! threaded nodes (`compact`), each tree's boxes cells of a grid over its own root box (the top
 //! level's in the push constants, a mesh's in its instances, in object space), in which a
 //! level's walk ends where its tree does (the top level's node count, an instance's
-//! `node_end`).
+//! `node_end`). Or wide nodes (`wide`), each tree's root without a parent, in which a level's
+//! walk ends when it would go up from that root.
 //!
 //! The walk stays stackless with O(1) more state than the one-level walk: at a top-level leaf
 //! the ray goes into object space (its direction not renormalised, so t, tmin and tmax keep
 //! their world meaning and one tmax serves both levels), walks the mesh's tree from its root,
 //! and when that tree is done continues in the top level where it would have gone after the
 //! leaf (a threaded level: the leaf's escape link, or the next node in a compact one; a
-//! parent-link level: the leaf's sibling or parent, and the state it enters it in) with the
-//! world ray. What it carries besides: that place, whether it is in object space, the level's
-//! root (parent-link) or end and grid (compact), the instance's primitive base and mirror flag
-//! (Embree's and pbrt's instancing, without their stack). Shaders:
+//! parent-link level: the leaf's sibling or parent, and the state it enters it in; a wide
+//! level: the leaf's node again, after the leaf's slot, as the wide walk comes back from a
+//! child) with the world ray. What it carries besides: that place, whether it is in object
+//! space, the level's root (parent-link) or end and grid (compact), the instance's primitive
+//! base and mirror flag (Embree's and pbrt's instancing, without their stack). Shaders:
 //! `shaders/include/traverse_two_level.glsl` (threaded and multi-order levels, the
 //! `_two_level_threaded` build of every tracing shader), `traverse_two_level_parent_link.glsl`
-//! (`_two_level_parent_link`) and `traverse_two_level_compact.glsl` (`_two_level_compact`).
-//!
-//! The wide layout cannot be a level as it stands: its walk's per-node slot state and 128-byte
-//! nodes would need a node array of their own format and a walk of their own.
+//! (`_two_level_parent_link`), `traverse_two_level_compact.glsl` (`_two_level_compact`) and
+//! `traverse_two_level_wide.glsl` (`_two_level_wide`).
 //!
 //! The scene's own triangles, which are no instance's (`scene::instance::InstanceGroup`), form
 //! one more mesh under an identity instance: its object ray is the world ray to the bit (each
@@ -45,11 +45,12 @@ use super::leaf::{leaf_count, miss, test_leaf};
 use super::multi_order::{self, ray_order};
 use super::parent_link::{self, near_child, State};
 use super::threaded::threaded;
+use super::wide;
 use super::{FlatBvh, LayoutKind, NodeArray, MAX_FLAT_TRIANGLES};
 use crate::bvh::{self, BuildConfig, BuilderKind, Bvh};
 use crate::geom::Aabb;
-use crate::gpu_abi::constants::{COMPACT_LEAF_FLAG, INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE};
-use crate::gpu_abi::{GpuCompactNode, GpuHit, GpuInstance, GpuNode, GpuParentNode, GpuPush, GpuRay, GpuTriangle};
+use crate::gpu_abi::constants::{COMPACT_LEAF_FLAG, INSTANCE_MIRRORED, LEAF_COUNT_BITS, NODE_NONE, WIDE_INFO_SLOT_SHIFT, WIDE_NO_SLOT};
+use crate::gpu_abi::{GpuCompactNode, GpuHit, GpuInstance, GpuNode, GpuParentNode, GpuPush, GpuRay, GpuTriangle, GpuWideNode};
 use crate::scene::instance::{placed_box, Placement};
 use crate::scene::Scene;
 
@@ -78,10 +79,9 @@ pub struct TwoLevel {
 
 /// The layouts a two-level BVH's levels can be laid out in: those whose walk can start at any
 /// tree's root in the one node array with O(1) state and tell when that tree is done, so that
-/// the walk can enter a mesh's tree and come back to the top level (the module's comment says
-/// why the compact and wide layouts cannot). `LayoutInfo::two_level` names the shader build of
-/// each.
-pub const LAYOUTS: [LayoutKind; 4] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact];
+/// the walk can enter a mesh's tree and come back to the top level: every layout.
+/// `LayoutInfo::two_level` names the shader build of each.
+pub const LAYOUTS: [LayoutKind; 5] = [LayoutKind::Threaded, LayoutKind::MultiOrder, LayoutKind::ParentLink, LayoutKind::Compact, LayoutKind::Wide];
 
 // The shader builds (kinds.rs, read by host/build.rs) and this list name the same layouts.
 const _: () = {
@@ -108,6 +108,8 @@ pub enum LevelNodes {
     ParentLink(Vec<GpuParentNode>),
     /// Compact levels.
     Compact(Vec<GpuCompactNode>),
+    /// Wide levels.
+    Wide(Vec<GpuWideNode>),
 }
 
 impl LevelNodes {
@@ -116,6 +118,7 @@ impl LevelNodes {
             LevelNodes::Threaded(n) => n.len(),
             LevelNodes::ParentLink(n) => n.len(),
             LevelNodes::Compact(n) => n.len(),
+            LevelNodes::Wide(n) => n.len(),
         }
     }
 
@@ -128,6 +131,7 @@ impl LevelNodes {
             LevelNodes::Threaded(n) => bytemuck::cast_slice(n),
             LevelNodes::ParentLink(n) => bytemuck::cast_slice(n),
             LevelNodes::Compact(n) => bytemuck::cast_slice(n),
+            LevelNodes::Wide(n) => bytemuck::cast_slice(n),
         }
     }
 
@@ -137,12 +141,13 @@ impl LevelNodes {
             (LevelNodes::Threaded(a), LevelNodes::Threaded(b)) => a.extend(b),
             (LevelNodes::ParentLink(a), LevelNodes::ParentLink(b)) => a.extend(b),
             (LevelNodes::Compact(a), LevelNodes::Compact(b)) => a.extend(b),
+            (LevelNodes::Wide(a), LevelNodes::Wide(b)) => a.extend(b),
             _ => unreachable!("a two-level BVH's levels are in one layout"),
         }
     }
 
     /// Each leaf's word (`(first << LEAF_COUNT_BITS) | count`, count > 0; the same in every
-    /// format, a compact node's under its leaf flag) relabelled by `f`: a top-level leaf's to
+    /// format, a compact node's under its leaf flag, a wide node's in its leaf slots) relabelled by `f`: a top-level leaf's to
     /// its instance, a mesh leaf's first triangle past the meshes before it. Fails where a
     /// compact leaf's new word would reach its flag bit.
     fn relabel_leaves(&mut self, f: impl Fn(u64) -> u64) -> anyhow::Result<()> {
@@ -172,6 +177,14 @@ impl LevelNodes {
                     n.link = COMPACT_LEAF_FLAG | word(n.link & !COMPACT_LEAF_FLAG, u64::from(COMPACT_LEAF_FLAG))?;
                 }
             }
+            LevelNodes::Wide(n) => {
+                for n in n.iter_mut() {
+                    let slots = wide::child_count(n.info) as usize;
+                    for c in n.children[..slots].iter_mut().filter(|c| leaf_count(**c) != 0) {
+                        *c = word(*c, 1 << 32)?;
+                    }
+                }
+            }
         }
         Ok(())
     }
@@ -192,6 +205,7 @@ impl NodeArray for TwoLevel {
             LevelNodes::Threaded(nodes) => trace(nodes, self.top_order_nodes, tris, &self.instances, ray, any_hit),
             LevelNodes::ParentLink(nodes) => trace_parent_link(nodes, tris, &self.instances, ray, any_hit),
             LevelNodes::Compact(nodes) => trace_compact(nodes, self.top_nodes as u32, &self.top_grid, tris, &self.instances, ray, any_hit),
+            LevelNodes::Wide(nodes) => trace_wide(nodes, tris, &self.instances, ray, any_hit),
         }
     }
     fn fill_push(&self, push: &mut GpuPush) {
@@ -264,7 +278,8 @@ fn lay_out(tree: &Bvh, layout: LayoutKind, base: u32) -> anyhow::Result<Level> {
             nodes.iter_mut().filter(|n| n.link & COMPACT_LEAF_FLAG == 0).for_each(|n| n.link += base);
             Level { nodes: LevelNodes::Compact(nodes), per_order: 0, grid }
         }
-        _ => one(LevelNodes::Threaded(threaded(tree, |_, l, r| (l, r), base))),
+        LayoutKind::Wide => one(LevelNodes::Wide(wide::flatten_at(tree, base)?)),
+        LayoutKind::Threaded => one(LevelNodes::Threaded(threaded(tree, |_, l, r| (l, r), base))),
     })
 }
 
@@ -567,6 +582,77 @@ pub fn trace_compact(
             }
         }
         index += 1;
+    }
+    hit
+}
+
+/// `traverse` in traverse_two_level_wide.glsl: [`trace`] with wide levels, each walked by the
+/// wide walk (`wide::trace`) from its root (the top level's at 0, a mesh's at its instance's
+/// root) until it would go up from it (a root has no parent). At a top-level leaf slot the
+/// walk keeps that node and slot, and after the mesh's tree comes back to the node restricted
+/// to the slots after it, as the wide walk comes back from a child. A mesh's nodes order their
+/// slots by the object-space direction.
+pub fn trace_wide(nodes: &[GpuWideNode], tris: &[GpuTriangle], instances: &[GpuInstance], ray: &GpuRay, any_hit: bool) -> GpuHit {
+    let world = RayPre::new(ray);
+    let world_dir = Vec3::from(ray.direction);
+    let (mut r, mut dir) = (world, world_dir);
+    let mut hit = miss();
+    let mut tmax = ray.tmax;
+    let (mut index, mut from) = (0u32, WIDE_NO_SLOT);
+    // While in a mesh's tree: the top-level node and slot to come back to, and what the
+    // instance's hits need.
+    let mut in_object = false;
+    let (mut resume, mut resume_from) = (0u32, WIDE_NO_SLOT);
+    let (mut prim_base, mut mirrored) = (0u32, false);
+    while let Some(node) = nodes.get(index as usize) {
+        hit.nodes_visited += 1;
+        let reverse = wide::reversed(node.info, dir);
+        let (hits, t_enter) = wide::box_mask(&r, node, tmax);
+        let mut mask = hits & wide::slots_after(from, reverse);
+        let mut next = NODE_NONE;
+        while mask != 0 {
+            let slot = if reverse { 31 - mask.leading_zeros() } else { mask.trailing_zeros() };
+            mask &= !(1 << slot);
+            if t_enter[slot as usize] > tmax * super::intersect::SLAB_FAR_PAD {
+                continue;
+            }
+            let child = node.children[slot as usize];
+            if leaf_count(child) == 0 {
+                next = child >> LEAF_COUNT_BITS;
+                break;
+            }
+            if !in_object {
+                let Some(instance) = instances.get((child >> LEAF_COUNT_BITS) as usize) else { return hit };
+                (resume, resume_from) = (index, slot);
+                let object = object_ray(instance, ray);
+                (r, dir) = (RayPre::new(&object), Vec3::from(object.direction));
+                (next, in_object) = (instance.root, true);
+                (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+                break;
+            }
+            if test_leaf(child, tris, &r, &mut tmax, &mut hit, any_hit) {
+                hit.prim += prim_base;
+                if mirrored {
+                    (hit.u, hit.v) = (hit.v, hit.u);
+                }
+                if any_hit {
+                    return hit;
+                }
+            }
+        }
+        if next != NODE_NONE {
+            (index, from) = (next, WIDE_NO_SLOT);
+            continue;
+        }
+        if node.parent != NODE_NONE {
+            (index, from) = (node.parent, (node.info >> WIDE_INFO_SLOT_SHIFT) & 3);
+            continue;
+        }
+        // Up from a root: the walk is done, or the mesh's tree is and the top level goes on.
+        if !in_object {
+            break;
+        }
+        (index, from, in_object, r, dir) = (resume, resume_from, false, world, world_dir);
     }
     hit
 }

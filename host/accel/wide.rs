@@ -100,6 +100,13 @@ fn order_members(bvh: &Bvh, mut members: Vec<u32>) -> (u32, Vec<u32>) {
 /// Collapse `bvh` into wide nodes, depth first (a node's children follow it, first slot's
 /// subtree first).
 pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuWideNode>> {
+    flatten_at(bvh, 0)
+}
+
+/// [`flatten`] for an array in which the tree starts at `base` (a two-level BVH's levels,
+/// `two_level`): its parent links and interior children offset by it; the root's parent is
+/// still NODE_NONE, where a walk of the tree ends.
+pub fn flatten_at(bvh: &Bvh, base: u32) -> anyhow::Result<Vec<GpuWideNode>> {
     if bvh.nodes.is_empty() {
         return Ok(Vec::new());
     }
@@ -107,12 +114,12 @@ pub fn flatten(bvh: &Bvh) -> anyhow::Result<Vec<GpuWideNode>> {
     // (binary node, parent wide node, slot in the parent)
     let mut pending = vec![(0u32, NODE_NONE, 0u32)];
     while let Some((src, parent, slot_in_parent)) = pending.pop() {
-        let index = out.len() as u32;
-        if out.len() >= MAX_NODES {
+        if base as usize + out.len() >= MAX_NODES {
             bail!("BVH needs more than {MAX_NODES} wide nodes; the wide layout addresses at most that many");
         }
+        let index = base + out.len() as u32;
         if parent != NODE_NONE {
-            out[parent as usize].children[slot_in_parent as usize] = index << LEAF_COUNT_BITS;
+            out[(parent - base) as usize].children[slot_in_parent as usize] = index << LEAF_COUNT_BITS;
         }
         let (axis, slots) = order_members(bvh, members(bvh, src));
         let mut node = GpuWideNode {
@@ -146,12 +153,12 @@ pub fn child_count(info: u32) -> u32 {
 }
 
 /// Whether the ray visits this node's slots from the last to the first.
-fn reversed(info: u32, dir: Vec3) -> bool {
+pub(super) fn reversed(info: u32, dir: Vec3) -> bool {
     dir[((info >> WIDE_INFO_AXIS_SHIFT) & 3) as usize] < 0.0
 }
 
 /// The slots of a node still to visit after coming back from `from` (`WIDE_NO_SLOT`: all).
-fn slots_after(from: u32, reverse: bool) -> u32 {
+pub(super) fn slots_after(from: u32, reverse: bool) -> u32 {
     if from == WIDE_NO_SLOT {
         0xF
     } else if reverse {
@@ -163,7 +170,7 @@ fn slots_after(from: u32, reverse: bool) -> u32 {
 
 /// `wide_box_mask` in traverse_wide.glsl: which of the node's valid slots the ray enters
 /// within [tmin, tmax], and their entry distances. Each slot is exactly `intersect_box`.
-fn box_mask(r: &RayPre, n: &GpuWideNode, tmax: f32) -> (u32, [f32; 4]) {
+pub(super) fn box_mask(r: &RayPre, n: &GpuWideNode, tmax: f32) -> (u32, [f32; 4]) {
     let mut mask = 0;
     let mut t_enter = [0.0f32; 4];
     for slot in 0..ARITY {

@@ -2,8 +2,8 @@
 //! primary, shadow and diffuse-bounce rays the measured nodes visited and triangles tested per
 //! ray (the GPU's counters) and rays/s on the GPU. `--heatmap` draws nodes visited per pixel.
 //! A scene with instances gets a row per builder and two-level layout for its two-level BVH too
-//! (`two-level-threaded`, `two-level-multi-order`, `two-level-parent-link`, `two-level-compact`:
-//! `accel::two_level`), and the table a line
+//! (`two-level-threaded`, `two-level-multi-order`, ...: `accel::two_level`, every layout), and
+//! the table a line
 //! per such row with each level's counts.
 
 use crate::accel::two_level::{self, LevelCounts};

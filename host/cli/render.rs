@@ -81,8 +81,8 @@ pub struct RenderArgs {
     #[arg(hide = true, long, value_enum)]
     pub builder: Option<BuilderKind>,
     /// BVH layout the shaders walk [default: threaded; a scene with instances is walked
-    /// through a two-level BVH, one copy of each mesh, in threaded, multi-order, parent-link or
-    /// compact levels, which the wide layout expands]; none changes the image beyond rounding.
+    /// through a two-level BVH, one copy of each mesh, both levels in the layout asked for];
+    /// none changes the image beyond rounding.
     #[arg(hide = true, long, value_enum)]
     pub layout: Option<LayoutKind>,
     /// Put every triangle in the BVH, none in the triangle list that the scene's few largest

@@ -6,7 +6,7 @@ use crate::accel::{multi_order, LayoutKind};
 use crate::bvh::{BuildConfig, BuilderKind};
 use crate::gpu::TexelFormat;
 use crate::gpu_abi::constants::PRIM_NONE;
-use crate::gpu_abi::GpuNode;
+use crate::gpu_abi::{GpuNode, GpuWideNode};
 use crate::output::npy::{HitWriter, RayReader};
 use crate::prepare::{build_walk, GpuBvh, PrepareOptions};
 use crate::query::{RayOrder, RayQuery};
@@ -71,19 +71,29 @@ pub struct TraceReport {
     pub device_seconds: Option<f64>,
 }
 
-/// The layout `vkrt trace` walks unless `--layout` says: multi-order, which traced both camera
-/// and incoherent rays fastest on lavapipe (Conference, Sibenik, Sponza: 1.05-1.37x threaded's
-/// rays/s, medians of 5 alternating rounds, BENCHMARKS.md), as long as its six orders of the
-/// tree fit one texel buffer of the device (`max_texel_buffer_elements` 16-byte texels): a
-/// binary tree over `triangles` has at most 2 triangles - 1 nodes. Beyond that (about 5.6 M
-/// triangles on lavapipe) threaded, which needs a sixth of it. For a two-level BVH
-/// `triangles` counts each mesh's triangles once and adds its instances: its trees hold at
-/// most 2 n - 1 nodes over n items each, so at most 2 (triangles + instances) - 1 in all.
-pub fn default_layout(triangles: usize, max_texel_buffer_elements: u32) -> LayoutKind {
-    let texels_per_node = (std::mem::size_of::<GpuNode>() as u64).div_ceil(TexelFormat::Rgba32Uint.bytes());
+/// The layout `vkrt trace` walks unless `--layout` says. A one-level BVH: multi-order, which
+/// traced both camera and incoherent rays fastest on lavapipe (Conference, Sibenik, Sponza:
+/// 1.05-1.37x threaded's rays/s, medians of 5 alternating rounds, BENCHMARKS.md). A
+/// `two_level` BVH (a scene with instances): wide levels, which traced them fastest (three
+/// instanced scenes: 0.93-1.13x multi-order levels' rays/s, first in 11 of 12 cells of two runs;
+/// 1.08-1.50x threaded levels',
+/// docs/experiments/two-level-layouts.md). Either as long as the worst case of its nodes fits
+/// one texel buffer of the device (`max_texel_buffer_elements` 16-byte texels): a binary
+/// tree over n items has at most 2 n - 1 nodes (and its wide collapse no more), in six orders
+/// of 2 texels or in wide nodes of 8. Beyond that (about 5.6 M triangles on lavapipe)
+/// threaded, which needs 2. For a two-level BVH `triangles` counts each mesh's triangles once
+/// and adds its instances: its trees hold at most 2 n - 1 nodes over n items each, so at most
+/// 2 (triangles + instances) - 1 in all.
+pub fn default_layout(triangles: usize, max_texel_buffer_elements: u32, two_level: bool) -> LayoutKind {
+    let texel = TexelFormat::Rgba32Uint.bytes();
+    let (layout, texels_per_node) = if two_level {
+        (LayoutKind::Wide, (std::mem::size_of::<GpuWideNode>() as u64).div_ceil(texel))
+    } else {
+        (LayoutKind::MultiOrder, multi_order::ORDERS as u64 * (std::mem::size_of::<GpuNode>() as u64).div_ceil(texel))
+    };
     let worst_nodes = 2 * triangles.max(1) as u64 - 1;
-    if multi_order::ORDERS as u64 * worst_nodes * texels_per_node <= u64::from(max_texel_buffer_elements) {
-        LayoutKind::MultiOrder
+    if worst_nodes * texels_per_node <= u64::from(max_texel_buffer_elements) {
+        layout
     } else {
         LayoutKind::Threaded
     }
@@ -93,8 +103,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
     let mut reader = RayReader::open(&args.rays)?;
     let scene = crate::scene::load_scene(&args.scene)?;
     let ctx = args.device.context()?;
-    // A scene with instances walks its two-level BVH in the layouts of two_level::LAYOUTS
-    // (the others walk the expanded copies).
+    // A scene with instances walks its two-level BVH, both levels in the layout.
     let layout = match args.layout {
         Some(l) => l,
         None => {
@@ -103,7 +112,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
             let instances: usize = scene.instances.iter().map(|g| g.placements.len()).sum();
             let own = usize::from(instances > 0 && !scene.triangles.is_empty());
             let triangles = scene.triangles.len() + scene.instances.iter().map(|g| g.mesh.len()).sum::<usize>();
-            default_layout(triangles + instances + own, ctx.info.max_texel_buffer_elements)
+            default_layout(triangles + instances + own, ctx.info.max_texel_buffer_elements, instances > 0)
         }
     };
     let options = PrepareOptions { builder: args.builder, layout, build: BuildConfig::default(), triangle_list: !args.no_triangle_list };
@@ -161,17 +170,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn default_layout_is_multi_order_while_six_orders_fit_the_texel_buffer() {
+    fn default_layout_is_multi_order_or_wide_levels_while_they_fit_the_texel_buffer() {
         // lavapipe: 2^27 texels of 16 bytes; a 32-byte node is two, six orders of 2n - 1 nodes.
         let lavapipe = 1u32 << 27;
-        assert_eq!(default_layout(0, lavapipe), LayoutKind::MultiOrder);
-        assert_eq!(default_layout(331_179, lavapipe), LayoutKind::MultiOrder);
+        assert_eq!(default_layout(0, lavapipe, false), LayoutKind::MultiOrder);
+        assert_eq!(default_layout(331_179, lavapipe, false), LayoutKind::MultiOrder);
         // 12 (2n - 1) <= 2^27 holds up to n = 5,592,405 and fails past it.
-        assert_eq!(default_layout(5_592_405, lavapipe), LayoutKind::MultiOrder);
-        assert_eq!(default_layout(5_592_406, lavapipe), LayoutKind::Threaded);
-        assert_eq!(default_layout(10_000_000, lavapipe), LayoutKind::Threaded);
+        assert_eq!(default_layout(5_592_405, lavapipe, false), LayoutKind::MultiOrder);
+        assert_eq!(default_layout(5_592_406, lavapipe, false), LayoutKind::Threaded);
+        assert_eq!(default_layout(10_000_000, lavapipe, false), LayoutKind::Threaded);
         // Vulkan's minimum limit, 65,536 texels: 12 (2n - 1) <= 65,536 up to n = 2,731.
-        assert_eq!(default_layout(2_731, 65_536), LayoutKind::MultiOrder);
-        assert_eq!(default_layout(2_732, 65_536), LayoutKind::Threaded);
+        assert_eq!(default_layout(2_731, 65_536, false), LayoutKind::MultiOrder);
+        assert_eq!(default_layout(2_732, 65_536, false), LayoutKind::Threaded);
+        // Two levels: 128-byte wide nodes, 8 texels each: 8 (2n - 1) <= 2^27 up to n = 8,388,608.
+        assert_eq!(default_layout(100_000, lavapipe, true), LayoutKind::Wide);
+        assert_eq!(default_layout(8_388_608, lavapipe, true), LayoutKind::Wide);
+        assert_eq!(default_layout(8_388_609, lavapipe, true), LayoutKind::Threaded);
     }
 }

@@ -243,12 +243,12 @@ fn lights_and_atlas(scene: &Scene, buffers: &SceneBuffers, info: &SceneInfo) -> 
 }
 
 /// The scene with its instances' copies placed ([`Scene::expanded`]), for a one-level BVH in
-/// `layout`; the error says why a scene of too many copies needs the threaded layout.
+/// `layout`; the error names the layout and the count (a two-level BVH takes any).
 pub fn expand(scene: &Scene, layout: LayoutKind) -> Result<std::borrow::Cow<'_, Scene>> {
-    scene.expanded().map_err(|e| anyhow::anyhow!("{e}")).with_context(|| {
-        let two_level: Vec<&str> = accel::two_level::LAYOUTS.iter().map(|l| l.name()).collect();
-        format!("laying the scene out as {} (the {} layouts walk instances without copying them)", layout.name(), two_level.join(", "))
-    })
+    scene
+        .expanded()
+        .map_err(|e| anyhow::anyhow!("{e}"))
+        .with_context(|| format!("placing the scene's copies for a one-level BVH in the {} layout (a two-level BVH takes them in every layout)", layout.name()))
 }
 
 /// Builds the scene's BVH with `options.builder` and lays it out as `options.layout`: all a
@@ -332,7 +332,7 @@ fn specular_triangles(scene: &Scene, materials: &[GpuMaterial]) -> (Vec<GpuTrian
 
 /// Whether a scene prepared for `layout` walks its two-level BVH: it has instances, and the
 /// layout is one a two-level BVH's levels are laid out in (`accel::two_level::LAYOUTS`:
-/// threaded, multi-order, parent-link, compact); the wide layout walks the expanded copies.
+/// every layout).
 pub fn walks_two_levels(scene: &Scene, layout: LayoutKind) -> bool {
     !scene.instances.is_empty() && accel::two_level::LAYOUTS.contains(&layout)
 }

@@ -240,7 +240,7 @@ impl Scene {
         Ok(match layout {
             Some(n) => layout_named(n)?,
             None if self.layout_given => self.options.layout,
-            None => vkrt::cli::trace::default_layout(items, self.device.ctx.info.max_texel_buffer_elements),
+            None => vkrt::cli::trace::default_layout(items, self.device.ctx.info.max_texel_buffer_elements, bvh.instance_count > 0),
         })
     }
 

@@ -128,7 +128,8 @@ def load_scene(
       +y).
     - ``builder``: one of ``BUILDERS`` (default ``"reinsertion"``); ``layout``: one of
       ``LAYOUTS`` (default ``"threaded"`` for renders; ``trace`` then walks ``vkrt trace``'s
-      default, multi-order). Neither changes an image.
+      default: multi-order, or wide levels for a scene with instances). Neither changes an
+      image.
     - ``device``: an index from ``devices()`` or part of a device's name.
 
     The prepared scene (BVH, shading arrays) is kept in the user's cache folder as the command
@@ -255,8 +256,8 @@ def _trace(
 
     ``layout``: the BVH layout to walk (``LAYOUTS``); default the scene's if ``load_scene`` was
     given one, else ``vkrt trace``'s default (copies of a mesh, the lab YAML's ``Instances``
-    or a glTF mesh placed more than once, are walked through their two-level BVH in the
-    threaded, multi-order, parent-link and compact layouts). The same bits as ``vkrt trace`` for every builder and
+    or a glTF mesh placed more than once, are walked through their two-level BVH, both levels
+    in the layout). The same bits as ``vkrt trace`` for every builder and
     layout. Raises ``ValueError`` for wrong shapes and non-finite or zero rays.
     """
     if directions is None:

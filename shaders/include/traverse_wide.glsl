@@ -48,6 +48,10 @@ uint wide_slots_after(uint from, bool reverse) {
     return reverse ? (1u << from) - 1u : (14u << from) & 15u;
 }
 
+#ifdef TWO_LEVEL
+// Instanced meshes under a top level (accel::two_level), both levels wide.
+#include "traverse_two_level_wide.glsl"
+#else
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin, tmax);
     Hit hit = hit_none();
@@ -92,5 +96,6 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     }
     return hit;
 }
+#endif
 
 #endif
