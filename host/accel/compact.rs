@@ -51,7 +51,7 @@ impl QuantGrid {
         Self { origin: min, scale }
     }
 
-    /// `decode` in bvh_bindings.glsl: the corner coordinate of cell `q` on `axis`.
+    /// `decode_cells` in traverse_compact.glsl: the corner coordinate of cell `q` on `axis`.
     pub fn decode(&self, q: u32, axis: usize) -> f32 {
         self.origin[axis] + q as f32 * self.scale[axis]
     }
@@ -183,6 +183,13 @@ pub fn from_threaded(nodes: &[GpuNode]) -> anyhow::Result<(Vec<GpuCompactNode>, 
     Ok((compact, grid))
 }
 
+/// `compact_box_hit` in traverse_compact.glsl: whether the ray enters the node's box as decoded
+/// on `grid`, within [tmin, tmax].
+pub fn enters(node: &GpuCompactNode, grid: &QuantGrid, r: &RayPre, tmax: f32) -> bool {
+    let (bmin, bmax) = node.bounds(grid);
+    intersect_box(r, bmin, bmax, tmax).is_some()
+}
+
 /// CPU twin of `traverse` in traverse_compact.glsl: the threaded walk over decoded boxes.
 pub fn trace(nodes: &[GpuCompactNode], grid: &QuantGrid, tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
     let r = RayPre::new(ray);
@@ -192,8 +199,7 @@ pub fn trace(nodes: &[GpuCompactNode], grid: &QuantGrid, tris: &[GpuTriangle], r
     while let Some(node) = nodes.get(index as usize) {
         hit.nodes_visited += 1;
         let leaf = node.link & LEAF_FLAG != 0;
-        let (bmin, bmax) = node.bounds(grid);
-        if intersect_box(&r, bmin, bmax, tmax).is_none() {
+        if !enters(node, grid, &r, tmax) {
             index = if leaf { index + 1 } else { node.link };
             continue;
         }

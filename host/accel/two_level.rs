@@ -409,6 +409,30 @@ pub fn object_ray(instance: &GpuInstance, ray: &GpuRay) -> GpuRay {
     }
 }
 
+/// What a walk carries while in an instance's mesh (`InstanceWalk` in instance_walk.glsl): what
+/// its hits need to be the scene's.
+#[derive(Debug, Clone, Copy, Default)]
+struct InObject {
+    prim_base: u32,
+    mirrored: bool,
+}
+
+impl InObject {
+    fn of(instance: &GpuInstance) -> Self {
+        Self { prim_base: instance.prim_base, mirrored: instance.flags & INSTANCE_MIRRORED != 0 }
+    }
+
+    /// `hit_in_world` in instance_walk.glsl: a hit in the mesh as the scene's: its primitive
+    /// id among the placed copies, and its barycentrics in the placed triangle's vertex order
+    /// (a mirroring instance swaps the second and third vertices).
+    fn hit_in_world(self, hit: &mut GpuHit) {
+        hit.prim += self.prim_base;
+        if self.mirrored {
+            (hit.u, hit.v) = (hit.v, hit.u);
+        }
+    }
+}
+
 /// `traverse` in traverse_two_level.glsl: the closest hit (or with `any_hit` the first found)
 /// through both levels, whose top level has `top_order_nodes` nodes per order (0: one order).
 pub fn trace(nodes: &[GpuNode], top_order_nodes: u32, tris: &[GpuTriangle], instances: &[GpuInstance], ray: &GpuRay, any_hit: bool) -> GpuHit {
@@ -422,7 +446,7 @@ pub fn trace(nodes: &[GpuNode], top_order_nodes: u32, tris: &[GpuTriangle], inst
     // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
     let mut in_object = false;
     let mut resume = NODE_NONE;
-    let (mut prim_base, mut mirrored) = (0u32, false);
+    let mut inside = InObject::default();
     loop {
         let Some(node) = nodes.get(index as usize) else {
             if !in_object {
@@ -445,14 +469,11 @@ pub fn trace(nodes: &[GpuNode], top_order_nodes: u32, tris: &[GpuTriangle], inst
             let object = object_ray(instance, ray);
             r = RayPre::new(&object);
             (resume, index, in_object) = (node.escape, instance.root + instance.order_nodes * order(&r, &object), true);
-            (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+            inside = InObject::of(instance);
             continue;
         }
         if test_leaf(node.leaf, tris, &r, &mut tmax, &mut hit, any_hit) {
-            hit.prim += prim_base;
-            if mirrored {
-                (hit.u, hit.v) = (hit.v, hit.u);
-            }
+            inside.hit_in_world(&mut hit);
             if any_hit {
                 return hit;
             }
@@ -477,7 +498,7 @@ pub fn trace_parent_link(nodes: &[GpuParentNode], tris: &[GpuTriangle], instance
     // leaf was the top level's root), and what the instance's hits need.
     let mut in_object = false;
     let mut resume = None;
-    let (mut prim_base, mut mirrored) = (0u32, false);
+    let mut inside = InObject::default();
     while let Some(node) = nodes.get(current as usize) {
         if state != State::FromChild {
             hit.nodes_visited += 1;
@@ -492,14 +513,11 @@ pub fn trace_parent_link(nodes: &[GpuParentNode], tris: &[GpuTriangle], instance
                 let object = object_ray(instance, ray);
                 (r, dir) = (RayPre::new(&object), Vec3::from(object.direction));
                 (root, current, state, in_object) = (instance.root, instance.root, State::FromParent, true);
-                (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+                inside = InObject::of(instance);
                 continue;
             }
             if entered && test_leaf(node.leaf, tris, &r, &mut tmax, &mut hit, any_hit) {
-                hit.prim += prim_base;
-                if mirrored {
-                    (hit.u, hit.v) = (hit.v, hit.u);
-                }
+                inside.hit_in_world(&mut hit);
                 if any_hit {
                     return hit;
                 }
@@ -542,7 +560,7 @@ pub fn trace_compact(
     // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
     let mut in_object = false;
     let mut resume = 0u32;
-    let (mut prim_base, mut mirrored) = (0u32, false);
+    let mut inside = InObject::default();
     loop {
         if index >= end {
             if !in_object {
@@ -554,8 +572,7 @@ pub fn trace_compact(
         let Some(node) = nodes.get(index as usize) else { break };
         hit.nodes_visited += 1;
         let leaf = node.link & COMPACT_LEAF_FLAG != 0;
-        let (bmin, bmax) = node.bounds(&grid);
-        if intersect_box(&r, bmin, bmax, tmax).is_none() {
+        if !compact::enters(node, &grid, &r, tmax) {
             index = if leaf { index + 1 } else { node.link };
             continue;
         }
@@ -569,14 +586,11 @@ pub fn trace_compact(
             r = RayPre::new(&object_ray(instance, ray));
             (resume, index, end, in_object) = (index + 1, instance.root, instance.node_end.min(count), true);
             grid = QuantGrid { origin: instance.grid_origin.into(), scale: instance.grid_scale.into() };
-            (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+            inside = InObject::of(instance);
             continue;
         }
         if test_leaf(word, tris, &r, &mut tmax, &mut hit, any_hit) {
-            hit.prim += prim_base;
-            if mirrored {
-                (hit.u, hit.v) = (hit.v, hit.u);
-            }
+            inside.hit_in_world(&mut hit);
             if any_hit {
                 return hit;
             }
@@ -603,7 +617,7 @@ pub fn trace_wide(nodes: &[GpuWideNode], tris: &[GpuTriangle], instances: &[GpuI
     // instance's hits need.
     let mut in_object = false;
     let (mut resume, mut resume_from) = (0u32, WIDE_NO_SLOT);
-    let (mut prim_base, mut mirrored) = (0u32, false);
+    let mut inside = InObject::default();
     while let Some(node) = nodes.get(index as usize) {
         hit.nodes_visited += 1;
         let reverse = wide::reversed(node.info, dir);
@@ -627,14 +641,11 @@ pub fn trace_wide(nodes: &[GpuWideNode], tris: &[GpuTriangle], instances: &[GpuI
                 let object = object_ray(instance, ray);
                 (r, dir) = (RayPre::new(&object), Vec3::from(object.direction));
                 (next, in_object) = (instance.root, true);
-                (prim_base, mirrored) = (instance.prim_base, instance.flags & INSTANCE_MIRRORED != 0);
+                inside = InObject::of(instance);
                 break;
             }
             if test_leaf(child, tris, &r, &mut tmax, &mut hit, any_hit) {
-                hit.prim += prim_base;
-                if mirrored {
-                    (hit.u, hit.v) = (hit.v, hit.u);
-                }
+                inside.hit_in_world(&mut hit);
                 if any_hit {
                     return hit;
                 }

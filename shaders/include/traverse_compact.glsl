@@ -15,14 +15,19 @@ GpuCompactNode load_node(uint i) {
 
 // Corners of cells q of the grid (origin, scale): a product and a sum, never fused (`precise`),
 // exactly as QuantGrid::decode computes them.
-vec3 decode_cells_on(uvec3 q, vec3 origin, vec3 scale) {
+vec3 decode_cells(uvec3 q, vec3 origin, vec3 scale) {
     precise vec3 corner = origin + vec3(q) * scale;
     return corner;
 }
 
-// The same on the scene's grid.
-vec3 decode_cells(uvec3 q) {
-    return decode_cells_on(q, push.grid_origin, push.grid_scale);
+// Whether the ray enters the node's box, decoded on the grid (origin, scale), within
+// [tmin, tmax]. CPU twin: accel::compact::enters.
+bool compact_box_hit(GpuCompactNode node, vec3 origin, vec3 scale, RayPre r, float tmax) {
+    const uint cell_mask = (1u << COMPACT_CELL_BITS) - 1u;
+    vec3 bmin = decode_cells(uvec3(node.min_xy & cell_mask, node.min_xy >> COMPACT_CELL_BITS, node.min_z_max_x & cell_mask), origin, scale);
+    vec3 bmax = decode_cells(uvec3(node.min_z_max_x >> COMPACT_CELL_BITS, node.max_yz & cell_mask, node.max_yz >> COMPACT_CELL_BITS), origin, scale);
+    float t_enter;
+    return intersect_box(r, bmin, bmax, tmax, t_enter);
 }
 
 #ifdef TWO_LEVEL
@@ -33,16 +38,12 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin, tmax);
     Hit hit = hit_none();
     uint count = node_count();
-    const uint cell_mask = (1u << COMPACT_CELL_BITS) - 1u;
     uint index = 0u;
     while (index < count) {
         GpuCompactNode node = load_node(index);
         hit.nodes_visited++;
         bool leaf = (node.link & COMPACT_LEAF_FLAG) != 0u;
-        vec3 bmin = decode_cells(uvec3(node.min_xy & cell_mask, node.min_xy >> COMPACT_CELL_BITS, node.min_z_max_x & cell_mask));
-        vec3 bmax = decode_cells(uvec3(node.min_z_max_x >> COMPACT_CELL_BITS, node.max_yz & cell_mask, node.max_yz >> COMPACT_CELL_BITS));
-        float t_enter;
-        if (!intersect_box(r, bmin, bmax, tmax, t_enter)) {
+        if (!compact_box_hit(node, push.grid_origin, push.grid_scale, r, tmax)) {
             // A leaf's escape is the next node in pre-order.
             index = leaf ? index + 1u : node.link;
             continue;

@@ -13,7 +13,7 @@
 #ifndef VKRT_TRAVERSE_TWO_LEVEL_GLSL
 #define VKRT_TRAVERSE_TWO_LEVEL_GLSL
 #include "threaded_walk.glsl"
-#include "instance.glsl"
+#include "instance_walk.glsl"
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     const uint count_mask = (1u << LEAF_COUNT_BITS) - 1u;
@@ -26,16 +26,14 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
     bool in_object = false;
     uint resume = NODE_NONE;
-    uint prim_base = 0u;
-    bool mirrored = false;
-    uint instance = 0u;
+    InstanceWalk walk = InstanceWalk(0u, 0u, false);
     while (true) {
         if (index == NODE_NONE) {
             if (!in_object) break;
             index = resume;
             in_object = false;
             r = world;
-            leaf_shading_base = 0u;
+            leave_instance();
             continue;
         }
         GpuNode node = load_node(index);
@@ -50,29 +48,17 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             continue;
         }
         if (!in_object) {
-            instance = node.leaf >> LEAF_COUNT_BITS;
-            GpuInstance inst = load_instance(instance);
-            vec3 object_dir = transform_dir(inst.world_to_object, dir);
-            r = ray_pre(transform_point(inst.world_to_object, origin), object_dir, tmin, tmax0);
+            vec3 object_dir;
+            GpuInstance inst = enter_instance(node.leaf >> LEAF_COUNT_BITS, origin, dir, tmin, tmax0, r, object_dir, walk);
             resume = node.escape;
             index = inst.root + inst.order_nodes * ray_order(r, object_dir);
-            prim_base = inst.prim_base;
-            mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
-            leaf_shading_base = inst.shading_base;
             in_object = true;
             continue;
         }
         if (test_leaf(node.leaf, r, tmax, hit, any_hit)) {
-            hit.prim += prim_base;
-            hit.instance = instance;
-            hit.mirrored = mirrored;
-            if (mirrored) {
-                float u = hit.u;
-                hit.u = hit.v;
-                hit.v = u;
-            }
+            hit_in_world(hit, walk);
             if (any_hit) {
-                leaf_shading_base = 0u;
+                leave_instance();
                 return hit;
             }
         }

@@ -13,10 +13,9 @@
 // at the node after the leaf, on the top level's grid, with the world ray again.
 #ifndef VKRT_TRAVERSE_TWO_LEVEL_COMPACT_GLSL
 #define VKRT_TRAVERSE_TWO_LEVEL_COMPACT_GLSL
-#include "instance.glsl"
+#include "instance_walk.glsl"
 
 Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
-    const uint cell_mask = (1u << COMPACT_CELL_BITS) - 1u;
     float tmax0 = tmax;
     RayPre world = ray_pre(origin, dir, tmin, tmax);
     RayPre r = world;
@@ -28,9 +27,7 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     // While in a mesh's tree: where the top level goes on, and what the instance's hits need.
     bool in_object = false;
     uint resume = 0u;
-    uint prim_base = 0u;
-    bool mirrored = false;
-    uint instance = 0u;
+    InstanceWalk walk = InstanceWalk(0u, 0u, false);
     while (true) {
         if (index >= end) {
             if (!in_object) break;
@@ -40,16 +37,13 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             grid_scale = push.grid_scale;
             r = world;
             in_object = false;
-            leaf_shading_base = 0u;
+            leave_instance();
             continue;
         }
         GpuCompactNode node = load_node(index);
         hit.nodes_visited++;
         bool leaf = (node.link & COMPACT_LEAF_FLAG) != 0u;
-        vec3 bmin = decode_cells_on(uvec3(node.min_xy & cell_mask, node.min_xy >> COMPACT_CELL_BITS, node.min_z_max_x & cell_mask), grid_origin, grid_scale);
-        vec3 bmax = decode_cells_on(uvec3(node.min_z_max_x >> COMPACT_CELL_BITS, node.max_yz & cell_mask, node.max_yz >> COMPACT_CELL_BITS), grid_origin, grid_scale);
-        float t_enter;
-        if (!intersect_box(r, bmin, bmax, tmax, t_enter)) {
+        if (!compact_box_hit(node, grid_origin, grid_scale, r, tmax)) {
             // A leaf's escape is the next node in pre-order.
             index = leaf ? index + 1u : node.link;
             continue;
@@ -60,31 +54,20 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
         }
         uint word = node.link & ~COMPACT_LEAF_FLAG;
         if (!in_object) {
-            instance = word >> LEAF_COUNT_BITS;
-            GpuInstance inst = load_instance(instance);
-            r = ray_pre(transform_point(inst.world_to_object, origin), transform_dir(inst.world_to_object, dir), tmin, tmax0);
+            vec3 object_dir;
+            GpuInstance inst = enter_instance(word >> LEAF_COUNT_BITS, origin, dir, tmin, tmax0, r, object_dir, walk);
             resume = index + 1u;
             index = inst.root;
             end = min(inst.node_end, node_count());
             grid_origin = inst.grid_origin;
             grid_scale = inst.grid_scale;
-            prim_base = inst.prim_base;
-            mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
-            leaf_shading_base = inst.shading_base;
             in_object = true;
             continue;
         }
         if (test_leaf(word, r, tmax, hit, any_hit)) {
-            hit.prim += prim_base;
-            hit.instance = instance;
-            hit.mirrored = mirrored;
-            if (mirrored) {
-                float u = hit.u;
-                hit.u = hit.v;
-                hit.v = u;
-            }
+            hit_in_world(hit, walk);
             if (any_hit) {
-                leaf_shading_base = 0u;
+                leave_instance();
                 return hit;
             }
         }

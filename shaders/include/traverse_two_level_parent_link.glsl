@@ -13,7 +13,7 @@
 // follow the leaf, with the world ray again.
 #ifndef VKRT_TRAVERSE_TWO_LEVEL_PARENT_LINK_GLSL
 #define VKRT_TRAVERSE_TWO_LEVEL_PARENT_LINK_GLSL
-#include "instance.glsl"
+#include "instance_walk.glsl"
 
 // In a level rooted at `root`, the node after `current`, which the walk is done with (`node`: its
 // entry), and the state it enters it in: the far sibling if `current` is the near child, else
@@ -47,9 +47,7 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     uint resume = 0u;
     uint resume_state = FROM_CHILD;
     bool resume_ok = false;
-    uint prim_base = 0u;
-    bool mirrored = false;
-    uint instance = 0u;
+    InstanceWalk walk = InstanceWalk(0u, 0u, false);
     while (current < count) {
         GpuParentNode node = load_node(current);
         if (state != FROM_CHILD) {
@@ -64,30 +62,16 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             if (entered && !in_object) {
                 resume = current;
                 resume_ok = next_in_level(node, resume, resume_state, root, level_dir);
-                instance = node.leaf >> LEAF_COUNT_BITS;
-                GpuInstance inst = load_instance(instance);
-                level_dir = transform_dir(inst.world_to_object, dir);
-                r = ray_pre(transform_point(inst.world_to_object, origin), level_dir, tmin, tmax0);
-                root = inst.root;
+                root = enter_instance(node.leaf >> LEAF_COUNT_BITS, origin, dir, tmin, tmax0, r, level_dir, walk).root;
                 current = root;
                 state = FROM_PARENT;
-                prim_base = inst.prim_base;
-                mirrored = (inst.flags & INSTANCE_MIRRORED) != 0u;
-                leaf_shading_base = inst.shading_base;
                 in_object = true;
                 continue;
             }
             if (entered && test_leaf(node.leaf, r, tmax, hit, any_hit)) {
-                hit.prim += prim_base;
-                hit.instance = instance;
-                hit.mirrored = mirrored;
-                if (mirrored) {
-                    float u = hit.u;
-                    hit.u = hit.v;
-                    hit.v = u;
-                }
+                hit_in_world(hit, walk);
                 if (any_hit) {
-                    leaf_shading_base = 0u;
+                    leave_instance();
                     return hit;
                 }
             }
@@ -102,10 +86,10 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
             root = 0u;
             r = world;
             level_dir = dir;
-            leaf_shading_base = 0u;
+            leave_instance();
         }
     }
-    leaf_shading_base = 0u;
+    leave_instance();
     return hit;
 }
 
