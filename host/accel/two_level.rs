@@ -624,13 +624,7 @@ pub fn trace_wide(nodes: &[GpuWideNode], tris: &[GpuTriangle], instances: &[GpuI
         let (hits, t_enter) = wide::box_mask(&r, node, tmax);
         let mut mask = hits & wide::slots_after(from, reverse);
         let mut next = NODE_NONE;
-        while mask != 0 {
-            let slot = if reverse { 31 - mask.leading_zeros() } else { mask.trailing_zeros() };
-            mask &= !(1 << slot);
-            if t_enter[slot as usize] > tmax * super::intersect::SLAB_FAR_PAD {
-                continue;
-            }
-            let child = node.children[slot as usize];
+        while let Some((slot, child)) = wide::next_slot(&mut mask, reverse, &t_enter, tmax, node) {
             if leaf_count(child) == 0 {
                 next = child >> LEAF_COUNT_BITS;
                 break;

@@ -185,6 +185,22 @@ pub(super) fn box_mask(r: &RayPre, n: &GpuWideNode, tmax: f32) -> (u32, [f32; 4]
     (mask & ((1 << child_count(n.info)) - 1), t_enter)
 }
 
+/// The next slot of `mask` in the ray's order, taken out of it, and its child word: the slot
+/// loop of the wide walks (traverse_wide.glsl, traverse_two_level_wide.glsl, where it is
+/// written out). A slot whose entry is past `tmax` is passed over: a leaf of this node found a
+/// closer hit, the same answer as re-testing the box. None when no slot is left.
+pub(super) fn next_slot(mask: &mut u32, reverse: bool, t_enter: &[f32; 4], tmax: f32, node: &GpuWideNode) -> Option<(u32, u32)> {
+    while *mask != 0 {
+        let slot = if reverse { 31 - mask.leading_zeros() } else { mask.trailing_zeros() };
+        *mask &= !(1 << slot);
+        if t_enter[slot as usize] > tmax * SLAB_FAR_PAD {
+            continue;
+        }
+        return Some((slot, node.children[slot as usize]));
+    }
+    None
+}
+
 /// CPU twin of `traverse` in traverse_wide.glsl.
 pub fn trace(nodes: &[GpuWideNode], tris: &[GpuTriangle], ray: &GpuRay, any_hit: bool) -> GpuHit {
     let r = RayPre::new(ray);
@@ -204,14 +220,7 @@ pub fn trace(nodes: &[GpuWideNode], tris: &[GpuTriangle], ray: &GpuRay, any_hit:
         let (hits, t_enter) = box_mask(&r, node, tmax);
         let mut mask = hits & slots_after(from, reverse);
         let mut next = NODE_NONE;
-        while mask != 0 {
-            let slot = if reverse { 31 - mask.leading_zeros() } else { mask.trailing_zeros() };
-            mask &= !(1 << slot);
-            // A leaf of this node found a closer hit: the same answer as re-testing the box.
-            if t_enter[slot as usize] > tmax * SLAB_FAR_PAD {
-                continue;
-            }
-            let child = node.children[slot as usize];
+        while let Some((_, child)) = next_slot(&mut mask, reverse, &t_enter, tmax, node) {
             if leaf_count(child) == 0 {
                 next = child >> LEAF_COUNT_BITS;
                 break;
