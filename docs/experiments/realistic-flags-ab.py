@@ -9,9 +9,10 @@ and relMSE x that time. Run from anywhere after `cargo build --release`:
     python3 docs/experiments/realistic-flags-ab.py REF_SPP SEEDS sibenik,conference "64 --connections auto" "64 --connections off"
 """
 import sys, os, re, subprocess, statistics
+from types import SimpleNamespace
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-from path_time_to_error import flip_hdr, vkrt_compare  # noqa: E402
+from path_time_to_error import flip_hdr, vkrt_compare, vkrt_scene_flags  # noqa: E402
 import realistic_ladder as rl  # noqa: E402
 os.chdir(ROOT)
 binary = "target/release/vkrt"
@@ -23,9 +24,8 @@ for name in scenes:
     ref = rl.reference_path(name, spec, obj, mtl, 320, 240, ref_spp)
     if not os.path.exists(ref):
         sys.exit(f"no reference {ref}: make it first (tools/realistic_ladder.py --scenes {name} --reference-spp {ref_spp})")
-    vec = lambda v: ",".join(repr(float(x)) for x in v)
-    cam = [f"--eye={vec(spec['eye'])}", f"--target={vec(spec['target'])}", f"--up={vec(spec['up'])}", f"--fov={float(spec['fov'])!r}"]
-    if spec["envmap"]: cam += ["--envmap", rl.ENVMAP]
+    cam = vkrt_scene_flags(SimpleNamespace(vkrt_camera=True, eye=spec["eye"], target=spec["target"], up=spec["up"], fov=spec["fov"],
+                                           envmap=rl.ENVMAP if spec["envmap"] else None))
     res = {c: [] for c in configs}
     for seed in range(1, seeds + 1):
         for c in configs:

@@ -10,8 +10,12 @@ reversed every other round), medians printed; then how often the first two binar
 Each binary gets its own VKRT_CACHE folder, so that no binary reads another's prepared scenes.
 """
 import os, re, subprocess, sys, statistics, tempfile
+from types import SimpleNamespace
 import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from path_time_to_error import vkrt_scene_flags  # noqa: E402
+import realistic_ladder as rl  # noqa: E402
 TMP = tempfile.mkdtemp(prefix="vkrt-ab-")
 bins = dict(a.split("=", 1) for a in sys.argv[2:])
 rounds = int(sys.argv[1])
@@ -28,14 +32,11 @@ for name, obj in trace_scenes.items():
         if not os.path.exists(out):
             extra = ["--width", "1024", "--height", "1024"] if kind == "primary" else ["--count", str(1 << 20)]
             subprocess.run([gen, "rays", obj, "--kind", kind, "-o", out, *extra], check=True, capture_output=True)
-env = os.path.join(ROOT, "tests", "refs", "envmap-sun.exr")
-path_scenes = {
-    "sponza": (f"{R}/sponza/sponza.obj", "13.5,1.8,-0.6", "-12.0,5.5,0.6", 60, True),
-    "sibenik": (f"{R}/sibenik/sibenik.obj", "-17.0,-11.5,0.0", "10.0,-8.0,0.0", 60, False),
-    "conference": (f"{R}/conference/conference.obj", "1500.0,330.0,-210.0", "-900.0,180.0,-210.0", 60, False),
-    "dragon": (f"{R}/dragon/dragon.obj", "9.0,9.0,20.0", "0.0,4.0,0.0", 40, True),
-    "buddha": (f"{R}/buddha/buddha.obj", "6.0,7.0,16.0", "0.0,4.8,0.0", 40, True),
-}
+# The ladder's scenes as its tool writes them, with their cameras and maps.
+path_scenes = {name: (os.path.join(R, name, f"{name}.obj"),
+                      vkrt_scene_flags(SimpleNamespace(vkrt_camera=True, eye=spec["eye"], target=spec["target"], up=spec["up"], fov=spec["fov"],
+                                                       envmap=os.path.join(ROOT, rl.ENVMAP) if spec["envmap"] else None)))
+               for name, spec in rl.SCENES.items()}
 spp = os.environ.get("SPP", "16")
 res = {}
 for r in range(rounds):
@@ -49,16 +50,16 @@ for r in range(rounds):
                     if not m: print(p.stderr); sys.exit(1)
                     res.setdefault((f"trace {name} {kind}", b), []).append(float(m.group(1)))
         if "path" in mode:
-            for name, (obj, eye, tgt, fov, envmap) in path_scenes.items():
+            for name, (obj, scene_flags) in path_scenes.items():
                 cmd = [path, "render", obj, "-o", f"{TMP}/{b}-{name}.pfm", "--integrator", "path", "--width", "320", "--height", "240",
-                       "--spp", spp, f"--eye={eye}", f"--target={tgt}", "--up=0,1,0", f"--fov={fov}", "-v"] + (["--envmap", env] if envmap else [])
+                       "--spp", spp, "-v", *scene_flags]
                 p = subprocess.run(cmd, capture_output=True, text=True, env={**os.environ, "VKRT_CACHE": f"{TMP}/cache-{b}"})
                 m = re.search(r" in ([0-9.]+) s on ", p.stderr)
                 if not m: print(p.stderr); sys.exit(1)
                 res.setdefault((f"path {name} {spp}spp s", b), []).append(float(m.group(1)))
     print(f"round {r+1} done", file=sys.stderr, flush=True)
 names = list(bins)
-rows = sorted({k for k, _ in res}, key=lambda k: list(dict.fromkeys(k for k, _ in res)).index(k))
+rows = list(dict.fromkeys(w for w, _ in res))
 print("| workload | " + " | ".join(names) + " | ratio |")
 print("|---|" + "---|" * (len(names) + 1))
 for w in rows:
