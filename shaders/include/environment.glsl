@@ -2,13 +2,17 @@
 // light sampling. CPU twins: scene::envmap (EnvMap::radiance, direction_to_uv, grid_position,
 // rotate_y) and prepare::envmap (EnvLight::sample, EnvLight::pdf), which say the conventions:
 // Mitsuba 3's latitude-longitude mapping, texels at u = (i + 0.5) / W (wrapping) and on rows
-// v = j / (H - 1), bilinear between; a piecewise-constant distribution over the W x (H - 1)
-// bilinear cells (pbrt-v4's ImageInfiniteLight), marginal CDF over rows then one CDF per row.
+// v = j / (H - 1), bilinear between. A cell of the W x (H - 1) bilinear cells is drawn from a
+// piecewise-constant distribution (pbrt-v4's ImageInfiniteLight: marginal CDF over rows, then
+// one CDF per row), and a point in it in proportion to the bilinear luminance of its four
+// corners (pbrt-v4's SampleBilinear), so that a sun a texel or two wide is sampled as its
+// radiance falls off instead of uniformly over its cells.
 #ifndef VKRT_ENVIRONMENT_GLSL
 #define VKRT_ENVIRONMENT_GLSL
 #include "scene_bindings.glsl"
 #include "math.glsl"
 #include "features.glsl"
+#include "sampling.glsl"
 
 // Whether the scene has a map. HAS_ENVMAP only says the shader may meet one: the all-features
 // variant (every specialization constant left true) runs scenes without a map too, whose frame
@@ -49,6 +53,35 @@ float env_cdf(uint k) {
     return uintBitsToFloat(texelFetch(env_cdf_texels, int(k)).x);
 }
 
+// Rec. 709 luminance, the weights the distribution was built with (prepare::envmap).
+float env_luminance(vec3 c) {
+    return dot(c, vec3(0.2126, 0.7152, 0.0722));
+}
+
+// The luminances of cell (i, j)'s corners: (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1).
+vec4 env_corner_luminance(uint i, uint j) {
+    uint i1 = i + 1u == frame.env_width ? 0u : i + 1u;
+    return vec4(env_luminance(env_texel(i, j)), env_luminance(env_texel(i1, j)), env_luminance(env_texel(i, j + 1u)),
+                env_luminance(env_texel(i1, j + 1u)));
+}
+
+// x in [0, 1) with density proportional to (1 - x) a + x b, a, b >= 0 (pbrt-v4 SampleLinear);
+// u itself where both are 0. CPU twin: prepare::envmap::sample_linear.
+float env_sample_linear(float u, float a, float b) {
+    if (!(a + b > 0.0)) return u;
+    if (u == 0.0 && a == 0.0) return 0.0;
+    float x = u * (a + b) / (a + sqrt(mix(a * a, b * b, u)));
+    return min(x, ONE_MINUS_EPSILON);
+}
+
+// The density, over the unit square, of the bilinear function with corner weights w at f
+// (pbrt-v4 BilinearPDF); 0 where all weights are 0. CPU twin: prepare::envmap::bilinear_pdf.
+float env_bilinear_pdf(vec2 f, vec4 w) {
+    float sum = w.x + w.y + w.z + w.w;
+    if (!(sum > 0.0)) return 0.0;
+    return 4.0 * mix(mix(w.x, w.y, f.x), mix(w.z, w.w, f.x), f.y) / sum;
+}
+
 // The radiance arriving along world direction d (unit).
 vec3 env_radiance(vec3 d) {
     vec2 g = env_grid(env_to_local(d));
@@ -74,14 +107,14 @@ uint env_find_interval(uint base, uint n, float u) {
     return lo;
 }
 
-// The solid-angle density of the map's sampling at a direction with these grid coordinates
-// and sin(theta), from cell (i, j)'s probability.
-float env_density(uint i, uint j, float sin_theta) {
-    uint w = frame.env_width;
+// The solid-angle density of the map's sampling at a direction with sin(theta) at point f of
+// cell (i, j) (corner luminances w): the cell's probability times the bilinear density in it.
+float env_density(uint i, uint j, vec2 f, vec4 w, float sin_theta) {
+    uint width = frame.env_width;
     uint rows = frame.env_height - 1u;
-    uint row = frame.env_height + j * (w + 1u);
+    uint row = frame.env_height + j * (width + 1u);
     float p = (env_cdf(j + 1u) - env_cdf(j)) * (env_cdf(row + i + 1u) - env_cdf(row + i));
-    return sin_theta > 0.0 ? p * float(w * rows) / (2.0 * PI * PI * sin_theta) : 0.0;
+    return sin_theta > 0.0 ? p * env_bilinear_pdf(f, w) * float(width * rows) / (2.0 * PI * PI * sin_theta) : 0.0;
 }
 
 // Draws a world direction wi with solid-angle density pdf; false if it carries nothing.
@@ -97,13 +130,17 @@ bool env_sample(vec2 u, out vec3 wi, out float pdf) {
     float c0 = env_cdf(row + i);
     float c1 = env_cdf(row + i + 1u);
     float fx = clamp((u.x - c0) / (c1 - c0), 0.0, 1.0);
+    // Within the cell: y from the bilinear's marginal, then x given y.
+    vec4 lum = env_corner_luminance(i, j);
+    fy = env_sample_linear(fy, lum.x + lum.y, lum.z + lum.w);
+    fx = env_sample_linear(fx, mix(lum.x, lum.z, fy), mix(lum.y, lum.w, fy));
     float x = float(i) + fx;
     float theta = PI * (float(j) + fy) / float(rows);
     float phi = 2.0 * PI * fract((x + 0.5) / float(w));
     float sin_theta = sin(theta);
     vec3 local = vec3(sin(phi) * sin_theta, cos(theta), -cos(phi) * sin_theta);
     wi = env_to_world(local);
-    pdf = env_density(i, j, sin_theta);
+    pdf = env_density(i, j, vec2(fx, fy), lum, sin_theta);
     return pdf > 0.0;
 }
 
@@ -113,7 +150,8 @@ float env_pdf(vec3 d) {
     vec2 g = env_grid(local);
     uint i = min(uint(g.x), frame.env_width - 1u);
     uint j = min(uint(g.y), frame.env_height - 2u);
-    return env_density(i, j, sqrt(max(0.0, 1.0 - local.y * local.y)));
+    vec2 f = clamp(g - vec2(i, j), 0.0, 1.0);
+    return env_density(i, j, f, env_corner_luminance(i, j), sqrt(max(0.0, 1.0 - local.y * local.y)));
 }
 
 #endif
