@@ -65,6 +65,10 @@ pub fn sample_linear(u: f32, a: f32, b: f32) -> f32 {
     if u == 0.0 && a == 0.0 {
         return 0.0;
     }
+    // The density does not change with the scale; a bright sun's squared luminance would
+    // overflow without it.
+    let m = a.max(b);
+    let (a, b) = (a / m, b / m);
     // GLSL's mix(a^2, b^2, u), as the shader writes it.
     let x = u * (a + b) / (a + (a * a * (1.0 - u) + b * b * u).sqrt());
     // The largest f32 below 1: the shader's ONE_MINUS_EPSILON (sampling.glsl).
@@ -75,10 +79,13 @@ pub fn sample_linear(u: f32, a: f32, b: f32) -> f32 {
 /// (0, 0), (1, 0), (0, 1), (1, 1)) at `f`; 0 where all are 0. The CPU twin of
 /// `env_bilinear_pdf`.
 pub fn bilinear_pdf(f: Vec2, w: [f32; 4]) -> f32 {
-    let sum = w[0] + w[1] + w[2] + w[3];
-    if !(sum > 0.0) {
+    // Scaled to at most 1 first, as in `sample_linear`: the sum must not overflow.
+    let m = w[0].max(w[1]).max(w[2]).max(w[3]);
+    if !(m > 0.0) {
         return 0.0;
     }
+    let w = w.map(|x| x / m);
+    let sum = w[0] + w[1] + w[2] + w[3];
     4.0 * mix(mix(w[0], w[1], f.x), mix(w[2], w[3], f.x), f.y) / sum
 }
 
@@ -316,8 +323,14 @@ mod tests {
             }
         }
         assert_eq!(sample_linear(0.3, 0.0, 0.0), 0.3);
+        // Weights whose squares overflow f32: the same draw as their scaled-down twins.
+        for u in [0.1f32, 0.5, 0.9] {
+            let (x, small) = (sample_linear(u, 1e30, 3e30), sample_linear(u, 1.0, 3.0));
+            assert!(x.is_finite() && (x - small).abs() < 1e-6, "u {u}: {x} vs {small}");
+        }
         assert_eq!(bilinear_pdf(Vec2::new(0.5, 0.5), [0.0; 4]), 0.0);
         assert!((bilinear_pdf(Vec2::new(0.0, 0.0), [1.0, 0.0, 0.0, 0.0]) - 4.0).abs() < 1e-6);
+        assert!((bilinear_pdf(Vec2::new(0.25, 0.5), [3e38, 3e38, 3e38, 0.0]) - bilinear_pdf(Vec2::new(0.25, 0.5), [3.0, 3.0, 3.0, 0.0])).abs() < 1e-6);
     }
 
     /// A sun one texel wide, on the equator, lights its four cells from one corner each. Drawn

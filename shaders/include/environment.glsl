@@ -70,6 +70,11 @@ vec4 env_corner_luminance(uint i, uint j) {
 float env_sample_linear(float u, float a, float b) {
     if (!(a + b > 0.0)) return u;
     if (u == 0.0 && a == 0.0) return 0.0;
+    // The density does not change with the scale; a bright sun's squared luminance would
+    // overflow without it.
+    float m = max(a, b);
+    a /= m;
+    b /= m;
     float x = u * (a + b) / (a + sqrt(mix(a * a, b * b, u)));
     return min(x, ONE_MINUS_EPSILON);
 }
@@ -77,8 +82,11 @@ float env_sample_linear(float u, float a, float b) {
 // The density, over the unit square, of the bilinear function with corner weights w at f
 // (pbrt-v4 BilinearPDF); 0 where all weights are 0. CPU twin: prepare::envmap::bilinear_pdf.
 float env_bilinear_pdf(vec2 f, vec4 w) {
+    // Scaled to at most 1 first, as in env_sample_linear: the sum must not overflow.
+    float m = max(max(w.x, w.y), max(w.z, w.w));
+    if (!(m > 0.0)) return 0.0;
+    w /= m;
     float sum = w.x + w.y + w.z + w.w;
-    if (!(sum > 0.0)) return 0.0;
     return 4.0 * mix(mix(w.x, w.y, f.x), mix(w.z, w.w, f.x), f.y) / sum;
 }
 
