@@ -45,14 +45,19 @@ pub struct EnvLight {
     conditional: Vec<f32>,
 }
 
+/// Rec. 709 luminance weights, as Mitsuba's envmap weighs its texels (the shader's
+/// `env_luminance` writes them out).
+const LUMINANCE_WEIGHTS: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
 fn luminance(c: Vec3) -> f64 {
-    // Rec. 709 luminance, as Mitsuba's envmap weighs its texels.
-    0.2126 * c.x as f64 + 0.7152 * c.y as f64 + 0.0722 * c.z as f64
+    let [r, g, b] = LUMINANCE_WEIGHTS;
+    r * c.x as f64 + g * c.y as f64 + b * c.z as f64
 }
 
-/// Rec. 709 luminance in f32, as the shader weighs a cell's corners (`env_luminance`).
+/// The same in f32, as the shader weighs a cell's corners (`env_luminance`).
 fn luminance_f32(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+    let [r, g, b] = LUMINANCE_WEIGHTS.map(|w| w as f32);
+    r * c[0] + g * c[1] + b * c[2]
 }
 
 /// x in [0, 1) with density proportional to (1 - x) a + x b, a, b >= 0 (PBRT 4th ed.
