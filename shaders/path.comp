@@ -72,7 +72,9 @@ vec3 radiance(vec3 origin, vec3 dir, inout Sampler smp, inout uint rays, float f
         Hit h = trace_closest(origin, dir, 0.0, 1.0 / 0.0);
         if (h.prim == PRIM_NONE) {
             if (env_present()) {
-                ps.result += ps.throughput * env_radiance(dir) * env_hit_weight(ps, dir, nee);
+                float density;
+                vec3 l = env_lookup(dir, env_hit_weighed(ps, nee), density);
+                ps.result += ps.throughput * l * env_hit_weight(ps, density, nee);
             } else if (HAS_SKY) {
                 // No light sampling picks the sky, so BSDF sampling gets it all (MIS weight 1).
                 ps.result += ps.throughput * sky_radiance(dir);

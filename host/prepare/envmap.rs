@@ -187,16 +187,21 @@ impl EnvLight {
         PI * (scene_radius as f64).powi(2) * self.mean_integral
     }
 
-    /// The luminances of cell (i, j)'s corners (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1),
-    /// from the scaled texels the shader reads.
-    fn corner_luminance(&self, i: usize, j: usize) -> [f32; 4] {
+    /// The scaled texels at cell (i, j)'s corners (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1),
+    /// as the shader reads them (`env_cell`).
+    fn cell(&self, i: usize, j: usize) -> [Vec3; 4] {
         let w = self.width as usize;
         let i1 = (i + 1) % w;
-        let lum = |i: usize, j: usize| {
+        let texel = |i: usize, j: usize| {
             let t = self.texels[j * w + i];
-            luminance_f32([f32::from_bits(t[0]), f32::from_bits(t[1]), f32::from_bits(t[2])])
+            Vec3::new(f32::from_bits(t[0]), f32::from_bits(t[1]), f32::from_bits(t[2]))
         };
-        [lum(i, j), lum(i1, j), lum(i, j + 1), lum(i1, j + 1)]
+        [texel(i, j), texel(i1, j), texel(i, j + 1), texel(i1, j + 1)]
+    }
+
+    /// The luminances of a cell's corners (`env_cell_luminance`).
+    fn corner_luminance(cell: &[Vec3; 4]) -> [f32; 4] {
+        cell.map(|t| luminance_f32(t.to_array()))
     }
 
     fn row_cdf(&self, j: usize) -> &[f32] {
@@ -204,8 +209,23 @@ impl EnvLight {
         &self.conditional[j * n..(j + 1) * n]
     }
 
-    /// A world direction for `u` and its solid-angle density: the CPU twin of `env_sample`.
-    pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
+    /// The solid-angle density at point `f` of cell (i, j) (corner luminances `w`) where the
+    /// direction has `sin_theta`: the cell's probability times the bilinear density in it
+    /// (`env_density`).
+    fn density(&self, i: usize, j: usize, f: Vec2, w: [f32; 4], sin_theta: f32) -> f32 {
+        if sin_theta <= 0.0 {
+            return 0.0;
+        }
+        let row = self.row_cdf(j);
+        let p = (self.marginal[j + 1] - self.marginal[j]) * (row[i + 1] - row[i]) * bilinear_pdf(f, w);
+        let rows = self.height as usize - 1;
+        p * (self.width as usize * rows) as f32 / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin_theta)
+    }
+
+    /// A world direction for `u`, the radiance along it and its solid-angle density: the CPU
+    /// twin of `env_sample`. The radiance and the density are those of the drawn point of the
+    /// cell, from the corners the draw read, as the shader computes them.
+    pub fn sample(&self, u: Vec2) -> EnvSample {
         let rows = self.height as usize - 1;
         let j = find_interval(&self.marginal, u.y).min(rows - 1);
         let (m0, m1) = (self.marginal[j], self.marginal[j + 1]);
@@ -215,32 +235,30 @@ impl EnvLight {
         let (c0, c1) = (row[i], row[i + 1]);
         let fx = ((u.x - c0) / (c1 - c0)).clamp(0.0, 1.0);
         // Within the cell: y from the bilinear's marginal, then x given y.
-        let w = self.corner_luminance(i, j);
+        let cell = self.cell(i, j);
+        let w = Self::corner_luminance(&cell);
         let fy = sample_linear(fy, w[0] + w[1], w[2] + w[3]);
         let fx = sample_linear(fx, mix(w[0], w[2], fy), mix(w[1], w[3], fy));
         let x = i as f32 + fx;
         let y = j as f32 + fy;
         let uv = Vec2::new(((x + 0.5) / self.width as f32).fract(), y / rows as f32);
-        let d = rotate_y(uv_to_direction(uv), self.rotation_deg);
-        (d, self.pdf(d))
+        let dir = rotate_y(uv_to_direction(uv), self.rotation_deg);
+        let sin_theta = (std::f32::consts::PI * y / rows as f32).sin();
+        let radiance = cell[0].lerp(cell[1], fx).lerp(cell[2].lerp(cell[3], fx), fy);
+        EnvSample { dir, radiance, pdf: self.density(i, j, Vec2::new(fx, fy), w, sin_theta) }
     }
 
     /// The solid-angle density with which [`Self::sample`] draws world direction `d`: the CPU
-    /// twin of `env_pdf`.
+    /// twin of the density `env_lookup` gives an escaping ray.
     pub fn pdf(&self, d: Vec3) -> f32 {
         let local = rotate_y(d, -self.rotation_deg);
         let uv = direction_to_uv(local);
         let (x, y) = grid_position(uv, self.width, self.height);
         let rows = self.height as usize - 1;
         let (i, j) = ((x as usize).min(self.width as usize - 1), (y as usize).min(rows - 1));
-        let row = self.row_cdf(j);
         let f = (Vec2::new(x, y) - Vec2::new(i as f32, j as f32)).clamp(Vec2::ZERO, Vec2::ONE);
-        let p = (self.marginal[j + 1] - self.marginal[j]) * (row[i + 1] - row[i]) * bilinear_pdf(f, self.corner_luminance(i, j));
         let sin_theta = (1.0 - local.y * local.y).max(0.0).sqrt();
-        if sin_theta <= 0.0 {
-            return 0.0;
-        }
-        p * (self.width as usize * rows) as f32 / (2.0 * std::f32::consts::PI * std::f32::consts::PI * sin_theta)
+        self.density(i, j, f, Self::corner_luminance(&self.cell(i, j)), sin_theta)
     }
 
     /// What `GpuFrame` says of the map.
@@ -248,6 +266,17 @@ impl EnvLight {
         let (s, c) = self.rotation_deg.to_radians().sin_cos();
         EnvFrame { width: self.width, height: self.height, rotation_cos: c, rotation_sin: s }
     }
+}
+
+/// A direction drawn from the map ([`EnvLight::sample`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnvSample {
+    /// World direction, unit.
+    pub dir: Vec3,
+    /// The (scaled) radiance arriving along it.
+    pub radiance: Vec3,
+    /// Its solid-angle density.
+    pub pdf: f32,
 }
 
 /// The map's fields of the frame uniform.
@@ -285,7 +314,8 @@ mod tests {
 
     #[test]
     fn density_integrates_to_one_and_matches_the_samples() {
-        let light = EnvLight::new(&sunny(32, 17), 1.0, 30.0);
+        let map = sunny(32, 17);
+        let light = EnvLight::new(&map, 1.0, 30.0);
         // Integral of the pdf over the sphere by a fine (theta, phi) grid.
         let n = 400;
         let mut total = 0.0f64;
@@ -305,9 +335,18 @@ mod tests {
         for k in 0..count {
             // The R2 sequence (Roberts 2018): well spread points in the unit square.
             let u = Vec2::new((0.5 + k as f64 * 0.754_877_666).fract() as f32, (0.5 + k as f64 * 0.569_840_291).fract() as f32);
-            let (d, pdf) = light.sample(u);
+            let EnvSample { dir: d, radiance, pdf } = light.sample(u);
             assert!((d.length() - 1.0).abs() < 1e-4 && pdf > 0.0, "{d} {pdf}");
             let local = rotate_y(d, -30.0);
+            // The radiance and density of the drawn point are those a lookup along the drawn
+            // direction finds (which goes back to the grid through atan and acos, so not to
+            // the bit): the same corners, in the same order, at the same point.
+            let looked_up = map.radiance(local);
+            assert!((radiance - looked_up).abs().max_element() <= 1e-4 * (1.0 + looked_up.max_element()), "{d}: drawn {radiance}, looked up {looked_up}");
+            // The lookup's sin(theta) = sqrt(1 - y^2) loses f32 digits near the poles: a
+            // relative error of about 1e-7 / sin^2(theta).
+            let tolerance = 1e-3 + 1e-7 / (1.0 - d.y * d.y);
+            assert!((pdf - light.pdf(d)).abs() <= tolerance * pdf, "{d}: drawn density {pdf}, looked up {}", light.pdf(d));
             let (x, y) = grid_position(direction_to_uv(local), 32, 17);
             if (3.0..7.0).contains(&x) && (1.0..5.0).contains(&y) {
                 in_sun += 1;
@@ -352,8 +391,8 @@ mod tests {
         let (mut lo, mut hi) = (f32::MAX, 0.0f32);
         for k in 0..4000 {
             let u = Vec2::new((0.5 + k as f64 * 0.754_877_666).fract() as f32, (0.5 + k as f64 * 0.569_840_291).fract() as f32);
-            let (d, pdf) = light.sample(u);
-            let l = map.radiance(d).x;
+            let EnvSample { dir: d, radiance, pdf } = light.sample(u);
+            let l = radiance.x;
             assert!(pdf > 0.0 && l > 0.0, "a sample off the sun: {d} radiance {l} pdf {pdf}");
             let sin_theta = (1.0 - d.y * d.y).sqrt();
             let ratio = l / pdf / sin_theta;

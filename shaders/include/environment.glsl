@@ -58,11 +58,30 @@ float env_luminance(vec3 c) {
     return dot(c, vec3(0.2126, 0.7152, 0.0722));
 }
 
-// The luminances of cell (i, j)'s corners: (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1).
-vec4 env_corner_luminance(uint i, uint j) {
+// The texels at cell (i, j)'s corners (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1), fetched
+// once for both what a lookup needs: the radiance between them and their luminances, which
+// weigh the draw and the density within the cell.
+struct EnvCell {
+    vec3 t00;
+    vec3 t10;
+    vec3 t01;
+    vec3 t11;
+};
+
+EnvCell env_cell(uint i, uint j) {
     uint i1 = i + 1u == frame.env_width ? 0u : i + 1u;
-    return vec4(env_luminance(env_texel(i, j)), env_luminance(env_texel(i1, j)), env_luminance(env_texel(i, j + 1u)),
-                env_luminance(env_texel(i1, j + 1u)));
+    return EnvCell(env_texel(i, j), env_texel(i1, j), env_texel(i, j + 1u), env_texel(i1, j + 1u));
+}
+
+vec4 env_cell_luminance(EnvCell c) {
+    return vec4(env_luminance(c.t00), env_luminance(c.t10), env_luminance(c.t01), env_luminance(c.t11));
+}
+
+// The bilinear radiance at f in [0, 1]^2 of the cell.
+vec3 env_cell_radiance(EnvCell c, vec2 f) {
+    vec3 top = mix(c.t00, c.t10, f.x);
+    vec3 bottom = mix(c.t01, c.t11, f.x);
+    return mix(top, bottom, f.y);
 }
 
 // x in [0, 1) with density proportional to (1 - x) a + x b, a, b >= 0 (pbrt-v4 SampleLinear);
@@ -90,18 +109,6 @@ float env_bilinear_pdf(vec2 f, vec4 w) {
     return 4.0 * mix(mix(w.x, w.y, f.x), mix(w.z, w.w, f.x), f.y) / sum;
 }
 
-// The radiance arriving along world direction d (unit).
-vec3 env_radiance(vec3 d) {
-    vec2 g = env_grid(env_to_local(d));
-    uint i = min(uint(g.x), frame.env_width - 1u);
-    uint j = min(uint(g.y), frame.env_height - 2u);
-    vec2 f = g - vec2(i, j);
-    uint i1 = i + 1u == frame.env_width ? 0u : i + 1u;
-    vec3 top = mix(env_texel(i, j), env_texel(i1, j), f.x);
-    vec3 bottom = mix(env_texel(i, j + 1u), env_texel(i1, j + 1u), f.x);
-    return mix(top, bottom, f.y);
-}
-
 // The largest k < n with cdf[base + k] <= u (cdf[base] = 0 <= u): the interval u falls in.
 uint env_find_interval(uint base, uint n, float u) {
     uint lo = 0u;
@@ -125,8 +132,10 @@ float env_density(uint i, uint j, vec2 f, vec4 w, float sin_theta) {
     return sin_theta > 0.0 ? p * env_bilinear_pdf(f, w) * float(width * rows) / (2.0 * PI * PI * sin_theta) : 0.0;
 }
 
-// Draws a world direction wi with solid-angle density pdf; false if it carries nothing.
-bool env_sample(vec2 u, out vec3 wi, out float pdf) {
+// Draws a world direction wi with solid-angle density pdf and the radiance li arriving along it
+// (at the drawn point of the cell, from the corners the draw fetched); false if it carries
+// nothing.
+bool env_sample(vec2 u, out vec3 wi, out vec3 li, out float pdf) {
     uint w = frame.env_width;
     uint rows = frame.env_height - 1u;
     uint j = env_find_interval(0u, rows, u.y);
@@ -139,7 +148,8 @@ bool env_sample(vec2 u, out vec3 wi, out float pdf) {
     float c1 = env_cdf(row + i + 1u);
     float fx = clamp((u.x - c0) / (c1 - c0), 0.0, 1.0);
     // Within the cell: y from the bilinear's marginal, then x given y.
-    vec4 lum = env_corner_luminance(i, j);
+    EnvCell cell = env_cell(i, j);
+    vec4 lum = env_cell_luminance(cell);
     fy = env_sample_linear(fy, lum.x + lum.y, lum.z + lum.w);
     fx = env_sample_linear(fx, mix(lum.x, lum.z, fy), mix(lum.y, lum.w, fy));
     float x = float(i) + fx;
@@ -148,18 +158,33 @@ bool env_sample(vec2 u, out vec3 wi, out float pdf) {
     float sin_theta = sin(theta);
     vec3 local = vec3(sin(phi) * sin_theta, cos(theta), -cos(phi) * sin_theta);
     wi = env_to_world(local);
+    li = env_cell_radiance(cell, vec2(fx, fy));
     pdf = env_density(i, j, vec2(fx, fy), lum, sin_theta);
     return pdf > 0.0;
 }
 
-// The solid-angle density with which env_sample draws world direction d.
-float env_pdf(vec3 d) {
+// The radiance arriving along world direction d (unit) and, where `with_density`, the
+// solid-angle density with which env_sample draws d (else 0): one grid position and one set of
+// corner fetches for both, as an escaping path ray needs both for its MIS weight.
+vec3 env_lookup(vec3 d, bool with_density, out float density) {
     vec3 local = env_to_local(d);
     vec2 g = env_grid(local);
     uint i = min(uint(g.x), frame.env_width - 1u);
     uint j = min(uint(g.y), frame.env_height - 2u);
-    vec2 f = clamp(g - vec2(i, j), 0.0, 1.0);
-    return env_density(i, j, f, env_corner_luminance(i, j), sqrt(max(0.0, 1.0 - local.y * local.y)));
+    vec2 f = g - vec2(i, j);
+    EnvCell cell = env_cell(i, j);
+    density = 0.0;
+    if (with_density) {
+        float sin_theta = sqrt(max(0.0, 1.0 - local.y * local.y));
+        density = env_density(i, j, clamp(f, 0.0, 1.0), env_cell_luminance(cell), sin_theta);
+    }
+    return env_cell_radiance(cell, f);
+}
+
+// The radiance arriving along world direction d (unit).
+vec3 env_radiance(vec3 d) {
+    float unused;
+    return env_lookup(d, false, unused);
 }
 
 #endif

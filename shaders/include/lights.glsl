@@ -97,9 +97,10 @@ bool sample_light(vec3 p, vec3 origin, vec2 u, out LightSample ls) {
     // The environment map is the table's last entry (prepare::GpuScene::set_environment).
     if (env_present() && j == params.pick_count - 1u) {
         float pdf;
-        if (!env_sample(u, ls.wi, pdf)) return false;
+        vec3 li;
+        if (!env_sample(u, ls.wi, li, pdf)) return false;
         ls.pdf = pmf * pdf;
-        ls.li_over_pdf = env_radiance(ls.wi) / ls.pdf;
+        ls.li_over_pdf = li / ls.pdf;
         ls.span = ls.wi;
         ls.span_tmax = 1.0 / 0.0;
         return any(greaterThan(ls.li_over_pdf, vec3(0.0)));

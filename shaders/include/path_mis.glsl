@@ -19,10 +19,15 @@ float emitter_hit_pdf(Surface s, GpuMaterial m, vec3 dir, float dist) {
     return emitter_area_pdf(ke) * dist * dist / max(cos_light, 1e-12);
 }
 
-// A BSDF-sampled ray that left the scene into the environment map, which light sampling picks
-// too.
-float env_hit_weight(PathState ps, vec3 dir, bool nee) {
-    if (nee && !ps.prev_delta) return power_heuristic(ps.prev_pdf, frame.env_pick_pmf * env_pdf(dir));
+// Whether a BSDF-sampled ray that left the scene into the environment map is weighed against
+// light sampling, which picks the map too (env_hit_weight then needs the map's density there).
+bool env_hit_weighed(PathState ps, bool nee) {
+    return nee && !ps.prev_delta;
+}
+
+// Its weight, given the density with which light sampling draws its direction (env_lookup).
+float env_hit_weight(PathState ps, float env_density, bool nee) {
+    if (env_hit_weighed(ps, nee)) return power_heuristic(ps.prev_pdf, frame.env_pick_pmf * env_density);
     return 1.0;
 }
 
