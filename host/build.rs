@@ -49,10 +49,27 @@ fn run() -> Result<(), String> {
     let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").map_err(|e| format!("CARGO_MANIFEST_DIR: {e}"))?);
     let bench = std::env::var_os("CARGO_FEATURE_BENCH").is_some();
     let shaders = root.join("shaders");
-    for watched in ["shaders", "host/gpu_abi/constants.rs", "host/pipeline/variants.rs", "host/accel/kinds.rs"] {
+    // The build's identity for the prepared-scene cache (host/prepare/cache.rs keys its entries
+    // with it): a hash of every source of the host code and its dependencies' versions. An
+    // entry's arrays are whatever the code that wrote them made, so no other build may read
+    // them; a format number bumped by hand missed changes (an experiment's binary once left an
+    // entry with another BVH that main's binary then rendered wrongly, 2026-12-07).
+    for watched in ["host", "shaders", "Cargo.toml", "Cargo.lock"] {
         println!("cargo:rerun-if-changed={watched}");
     }
     println!("cargo:rerun-if-env-changed=GLSLANG_VALIDATOR");
+    println!("cargo:rustc-env=VKRT_SOURCE_HASH={:016x}", tree_hash(&root, &["host", "Cargo.toml", "Cargo.lock"])?);
+
+    // So the script now runs after any change to the host code, but glslang only when the
+    // shaders' own inputs (or glslang itself) changed: their hash is stamped beside the SPIR-V.
+    let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
+    let glslang_version = Command::new(&glslang).arg("--version").output().map(|o| String::from_utf8_lossy(&o.stdout).into_owned()).unwrap_or_default();
+    let inputs = tree_hash(&root, &["shaders", "host/build.rs", "host/gpu_abi/constants.rs", "host/pipeline/variants.rs", "host/accel/kinds.rs"])?;
+    let stamp = format!("inputs {inputs:016x}; bench {bench}; glslang {glslang}: {glslang_version}");
+    let stamp_path = out.join("shaders.stamp");
+    if out.join("shaders.rs").exists() && std::fs::read_to_string(&stamp_path).is_ok_and(|s| s == stamp) {
+        return Ok(());
+    }
 
     let generated = out.join("glsl");
     let probes = out.join("probes");
@@ -84,13 +101,53 @@ fn run() -> Result<(), String> {
             }
         }
     }
-    compile_all(&list, &shaders, &generated)?;
-    write_table(&out.join("shaders.rs"), &list)
+    compile_all(&glslang, &list, &shaders, &generated)?;
+    write_table(&out.join("shaders.rs"), &list)?;
+    std::fs::write(&stamp_path, stamp).map_err(|e| format!("writing {}: {e}", stamp_path.display()))
+}
+
+/// FNV-1a (64-bit) over the files under `paths` (files or folders, relative to `root`; missing
+/// ones skipped): each file's relative path, length and bytes, in path order.
+fn tree_hash(root: &Path, paths: &[&str]) -> Result<u64, String> {
+    fn collect(dir: &Path, files: &mut Vec<PathBuf>) -> Result<(), String> {
+        let entries = std::fs::read_dir(dir).map_err(|e| format!("reading {}: {e}", dir.display()))?;
+        for entry in entries {
+            let path = entry.map_err(|e| format!("reading {}: {e}", dir.display()))?.path();
+            if path.is_dir() {
+                collect(&path, files)?;
+            } else {
+                files.push(path);
+            }
+        }
+        Ok(())
+    }
+    let mut files = Vec::new();
+    for p in paths {
+        let path = root.join(p);
+        if path.is_dir() {
+            collect(&path, &mut files)?;
+        } else if path.exists() {
+            files.push(path);
+        }
+    }
+    files.sort();
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bytes: &[u8]| {
+        for b in bytes {
+            h = (h ^ u64::from(*b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    };
+    for f in files {
+        let bytes = std::fs::read(&f).map_err(|e| format!("reading {}: {e}", f.display()))?;
+        eat(f.strip_prefix(root).unwrap_or(&f).to_string_lossy().as_bytes());
+        eat(&(bytes.len() as u64).to_le_bytes());
+        eat(&bytes);
+    }
+    Ok(h)
 }
 
 /// Compiles every variant, as many at a time as the machine has cores.
-fn compile_all(list: &[Variant], shaders: &Path, generated: &Path) -> Result<(), String> {
-    let glslang = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
+fn compile_all(glslang: &str, list: &[Variant], shaders: &Path, generated: &Path) -> Result<(), String> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(list.len().max(1));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let errors: Vec<String> = std::thread::scope(|scope| {
@@ -101,7 +158,7 @@ fn compile_all(list: &[Variant], shaders: &Path, generated: &Path) -> Result<(),
                     loop {
                         let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                         let Some(v) = list.get(i) else { break };
-                        if let Err(e) = compile(&glslang, v, shaders, generated) {
+                        if let Err(e) = compile(glslang, v, shaders, generated) {
                             errors.push(e);
                         }
                     }

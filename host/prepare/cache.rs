@@ -4,8 +4,9 @@
 //! parsing the scene or building its BVH.
 //!
 //! An entry's name is a hash of everything that shapes its contents apart from the input files'
-//! bytes: the cache format, the vkrt version, the scene file's absolute path, the builder, the
-//! layout and the build settings (`entry_key`). The entry then lists every file the loader read
+//! bytes: the cache format, the build (`BUILD`: vkrt's version and a hash of its sources), the
+//! scene file's absolute path, the builder, the layout and the build settings (`entry_key`).
+//! The entry then lists every file the loader read
 //! with its content hash (xxh3), and a load re-hashes them all: a changed mesh, material library
 //! or texture makes the entry stale. A stale, corrupt (checksum), truncated or foreign (magic,
 //! format, version) entry is never used: the scene is prepared again, with a warning, and the
@@ -34,6 +35,13 @@ use std::time::Instant;
 use xxhash_rust::xxh3::{xxh3_128, Xxh3};
 
 /// Bumped whenever the file layout or the meaning of a stored array changes.
+/// The build that writes and reads entries: vkrt's version and a hash of its host sources,
+/// Cargo.toml and Cargo.lock (host/build.rs). Entries of another build are never read: two
+/// builds of one version can lay out the same scene differently (an experiment's binary once
+/// left an entry with a tree of its own in the user's cache, which main's binary then
+/// rendered wrongly), and no number bumped by hand catches every such change.
+const BUILD: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("VKRT_SOURCE_HASH"));
+
 pub const CACHE_FORMAT: u32 = 9; // 9: GpuPush grew to 96 bytes (top_order_nodes, a multi-order two-level BVH's); 8: glTF scenes without lights record their default light (LoadStats::default_light); 7: the triangle list (push.list_first, list_count; the tree leaves its triangles out); 6: reinsertion starts from the binned tree (was the sweep's), so its entries differ; 5: light picks store their alias's pmf (was padding); 4: GpuPush grew to 80 bytes
 const MAGIC: &[u8; 8] = b"VKRTPREP";
 const HEADER_BYTES: usize = 64;
@@ -249,12 +257,17 @@ pub fn prepare_scene(
 
 /// The entry name's hash: everything but the input files' bytes that shapes an entry.
 pub fn entry_key(scene_path: &Path, options: &PrepareOptions) -> u128 {
+    entry_key_of(BUILD, scene_path, options)
+}
+
+/// [`entry_key`] as `build` would name the entry.
+fn entry_key_of(build: &str, scene_path: &Path, options: &PrepareOptions) -> u128 {
     let path = std::path::absolute(scene_path).unwrap_or_else(|_| scene_path.to_path_buf());
     let b = &options.build;
     // The thread count is left out: the tree does not depend on it.
     let text = format!(
         "format {CACHE_FORMAT}; vkrt {}; scene {}; builder {}; layout {}; triangle list {}; leaf {}; bins {}; costs {} {}; texel budget {}",
-        env!("CARGO_PKG_VERSION"),
+        build,
         path.display(),
         options.builder.name(),
         options.layout.name(),
@@ -326,7 +339,7 @@ impl CachedScene {
         }
         let meta_bytes = map.get(HEADER_BYTES..HEADER_BYTES + meta_len).context("truncated metadata")?;
         let meta = Reader(ByteReader::new(meta_bytes)).meta().context("reading its metadata")?;
-        if meta.version != env!("CARGO_PKG_VERSION") {
+        if meta.version != BUILD {
             bail!("made by vkrt {}", meta.version);
         }
         for (input, hash) in &meta.inputs {
@@ -383,7 +396,7 @@ fn store(cache: &Cache, entry: &Path, prepared: &PreparedScene, summary: &SceneS
     let a = prepared.arrays();
     let arrays = array_bytes(&a);
     let mut meta = Meta {
-        version: env!("CARGO_PKG_VERSION").to_string(),
+        version: BUILD.to_string(),
         inputs,
         summary: summary.clone(),
         bounds: prepared.info.bounds,
@@ -629,6 +642,20 @@ impl Reader<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two builds of one version (say main and an experiment's branch) name the same scene's
+    /// entry differently, so neither ever maps the other's arrays.
+    #[test]
+    fn entries_are_named_by_the_build_that_writes_them() {
+        let (version, hash) = BUILD.split_once('+').expect("BUILD is version+hash");
+        assert_eq!(version, env!("CARGO_PKG_VERSION"));
+        assert!(hash.len() == 16 && hash.bytes().all(|b| b.is_ascii_hexdigit()), "source hash {hash}");
+        let options = PrepareOptions::default();
+        let scene = Path::new("/scenes/room.obj");
+        let other = format!("{version}+{:016x}", u64::from_str_radix(hash, 16).unwrap() ^ 1);
+        assert_eq!(entry_key(scene, &options), entry_key_of(BUILD, scene, &options));
+        assert_ne!(entry_key_of(BUILD, scene, &options), entry_key_of(&other, scene, &options));
+    }
 
     #[test]
     fn metadata_round_trips_and_a_cut_is_an_error() {
