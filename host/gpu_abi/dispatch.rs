@@ -32,13 +32,14 @@ gpu_structs! {
         pub focus_distance: f32,
         /// The environment map (`crate::prepare::envmap`): its size in texels (0: none), the
         /// cosine and sine of its rotation about +y, and the probability that light sampling
-        /// picks it (the light table's last entry).
+        /// picks it (the light table's last entry), and the luminance taken off each texel's
+        /// where it weighs the map's sampling (`prepare::EnvLight::compensation`).
         pub env_width: u32,
         pub env_height: u32,
         pub env_rotation_cos: f32,
         pub env_rotation_sin: f32,
         pub env_pick_pmf: f32,
-        pub _pad0: u32,
+        pub env_compensation: f32,
     }
 
     /// Per-dispatch values (push constants): which tile and which samples this dispatch renders.

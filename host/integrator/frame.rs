@@ -40,7 +40,7 @@ pub fn frame_for(scene: &GpuScene, settings: &RenderSettings) -> Result<GpuFrame
         env_rotation_cos: scene.env.rotation_cos,
         env_rotation_sin: scene.env.rotation_sin,
         env_pick_pmf: scene.env_pick_pmf,
-        _pad0: 0,
+        env_compensation: scene.env.compensation,
     })
 }
 

@@ -6,7 +6,8 @@
 // piecewise-constant distribution (pbrt-v4's ImageInfiniteLight: marginal CDF over rows, then
 // one CDF per row), and a point in it in proportion to the bilinear luminance of its four
 // corners (pbrt-v4's SampleBilinear), so that a sun a texel or two wide is sampled as its
-// radiance falls off instead of uniformly over its cells.
+// radiance falls off instead of uniformly over its cells. The luminances are compensated
+// (env_cell_luminance): the map's mean is taken off, leaving the dim sky to BSDF sampling.
 #ifndef VKRT_ENVIRONMENT_GLSL
 #define VKRT_ENVIRONMENT_GLSL
 #include "scene_bindings.glsl"
@@ -73,8 +74,12 @@ EnvCell env_cell(uint i, uint j) {
     return EnvCell(env_texel(i, j), env_texel(i1, j), env_texel(i, j + 1u), env_texel(i1, j + 1u));
 }
 
+// Their luminances less the map's compensation (MIS compensation, Karlik et al. 2019: what is
+// no brighter than the map's mean is left to BSDF sampling; prepare::envmap::
+// compensated_luminance), floored at 0: the weights of the draw in the cell and its density.
 vec4 env_cell_luminance(EnvCell c) {
-    return vec4(env_luminance(c.t00), env_luminance(c.t10), env_luminance(c.t01), env_luminance(c.t11));
+    vec4 lum = vec4(env_luminance(c.t00), env_luminance(c.t10), env_luminance(c.t01), env_luminance(c.t11));
+    return max(lum - frame.env_compensation, vec4(0.0));
 }
 
 // The bilinear radiance at f in [0, 1]^2 of the cell.

@@ -156,7 +156,7 @@ struct GpuFrame {
     float env_rotation_cos;
     float env_rotation_sin;
     float env_pick_pmf;
-    uint _pad0;
+    float env_compensation;
 };
 
 struct GpuPush {
