@@ -6,11 +6,11 @@
 //! An entry's name is a hash of everything that shapes its contents apart from the input files'
 //! bytes: the cache format, the build (`BUILD`: vkrt's version and a hash of its sources), the
 //! scene file's absolute path, the builder, the layout and the build settings (`entry_key`).
-//! The entry then lists every file the loader read
-//! with its content hash (xxh3), and a load re-hashes them all: a changed mesh, material library
-//! or texture makes the entry stale. A stale, corrupt (checksum), truncated or foreign (magic,
-//! format, version) entry is never used: the scene is prepared again, with a warning, and the
-//! entry rewritten. Entries are written to a temporary file and renamed into place, so
+//! The entry then lists every file the loader read with its content hash (xxh3), and a load
+//! re-hashes them all: a changed mesh, material library or texture makes the entry stale. A
+//! stale, corrupt (checksum), truncated or foreign (magic, format, build) entry is never used:
+//! the scene is prepared again, with a warning, and the entry rewritten. Entries are written to
+//! a temporary file and renamed into place, so
 //! concurrent runs preparing the same scene (shards of one array job) each leave a whole entry
 //! and readers never see half of one; an entry is never changed in place, so a mapping stays
 //! valid while another run replaces or evicts the file.
@@ -34,7 +34,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use xxhash_rust::xxh3::{xxh3_128, Xxh3};
 
-/// Bumped whenever the file layout or the meaning of a stored array changes.
 /// The build that writes and reads entries: vkrt's version and a hash of its host sources,
 /// Cargo.toml and Cargo.lock (host/build.rs). Entries of another build are never read: two
 /// builds of one version can lay out the same scene differently (an experiment's binary once
@@ -42,6 +41,7 @@ use xxhash_rust::xxh3::{xxh3_128, Xxh3};
 /// rendered wrongly), and no number bumped by hand catches every such change.
 const BUILD: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("VKRT_SOURCE_HASH"));
 
+/// Bumped whenever the file layout or the meaning of a stored array changes.
 pub const CACHE_FORMAT: u32 = 9; // 9: GpuPush grew to 96 bytes (top_order_nodes, a multi-order two-level BVH's); 8: glTF scenes without lights record their default light (LoadStats::default_light); 7: the triangle list (push.list_first, list_count; the tree leaves its triangles out); 6: reinsertion starts from the binned tree (was the sweep's), so its entries differ; 5: light picks store their alias's pmf (was padding); 4: GpuPush grew to 80 bytes
 const MAGIC: &[u8; 8] = b"VKRTPREP";
 const HEADER_BYTES: usize = 64;

@@ -106,24 +106,14 @@ struct Compensated {
 /// already finds the broad sky well, so light sampling's share of it only adds variance; taken
 /// off, the map's light samples go to the sun and whatever else stands out. A direction the
 /// compensated map never draws has light-sampling density 0, so BSDF sampling gets weight 1
-/// there and the estimate stays unbiased. Measured: relMSE -68 % on the realistic ladder's
-/// dragon and Buddha and -13 % in Sponza at 64 spp, HDR-FLIP -31 / -33 / -5 %
-/// (docs/experiments/env-mis-compensation.md). The mean is over solid angle (each cell's
-/// bilinear patch by its solid angle), in the shader's f32 units; a map with no texel above it
+/// there and the estimate stays unbiased. Measured: relMSE -70 % and -69 % on the realistic
+/// ladder's dragon and Buddha and -13 % in Sponza at 64 spp, HDR-FLIP -34 / -31 / -4.4 %
+/// (docs/experiments/env-mis-compensation.md). `mean_radiance` is the (scaled) map's mean over
+/// solid angle; the luminances are the shader's f32 ones. A map with no texel above the mean
 /// (a constant one) is left as it is.
-fn compensated_luminance(map: &EnvMap, scale: f32) -> Compensated {
-    let (w, h) = (map.width as usize, map.height as usize);
-    let rows = h - 1;
+fn compensated_luminance(map: &EnvMap, scale: f32, mean_radiance: Vec3) -> Compensated {
     let lum: Vec<f64> = map.texels.iter().map(|t| luminance_f32((Vec3::from(*t) * scale).to_array()) as f64).collect();
-    let mut integral = 0.0;
-    for j in 0..rows {
-        let solid_angle = 2.0 * PI * ((PI * j as f64 / rows as f64).cos() - (PI * (j + 1) as f64 / rows as f64).cos()) / w as f64;
-        for i in 0..w {
-            let i1 = (i + 1) % w;
-            integral += 0.25 * (lum[j * w + i] + lum[j * w + i1] + lum[(j + 1) * w + i] + lum[(j + 1) * w + i1]) * solid_angle;
-        }
-    }
-    let mean = (integral / (4.0 * PI)) as f32;
+    let mean = luminance_f32(mean_radiance.to_array());
     let compensation = if lum.iter().any(|l| *l > mean as f64) { mean } else { 0.0 };
     Compensated { texels: lum.iter().map(|l| (l - compensation as f64).max(0.0)).collect(), compensation }
 }
@@ -171,24 +161,11 @@ impl EnvLight {
         let (w, h) = (map.width as usize, map.height as usize);
         let rows = h - 1;
         let texels = map.texels.iter().map(|t| [(t[0] * scale).to_bits(), (t[1] * scale).to_bits(), (t[2] * scale).to_bits(), 0]).collect();
-        let lum = compensated_luminance(map, scale);
-        let mut row_weights = Vec::with_capacity(rows);
-        let mut conditional = Vec::with_capacity(rows * (w + 1));
+        // The mean radiance over the sphere: each cell's bilinear patch integrates to the mean of
+        // its corners over (u, v); the solid angle of a row of cells is
+        // 2 pi (cos theta_j - cos theta_j+1).
         let mut mean_rgb = glam::DVec3::ZERO;
         for j in 0..rows {
-            let sin_theta = (PI * (j as f64 + 0.5) / rows as f64).sin();
-            let cells: Vec<f64> = (0..w)
-                .map(|i| {
-                    let i1 = (i + 1) % w;
-                    let l = &lum.texels;
-                    let corners = l[j * w + i] + l[j * w + i1] + l[(j + 1) * w + i] + l[(j + 1) * w + i1];
-                    0.25 * corners * sin_theta
-                })
-                .collect();
-            row_weights.push(cells.iter().sum::<f64>());
-            conditional.extend(cdf_of(&cells));
-            // Each cell's bilinear patch integrates to the mean of its corners over (u, v); the
-            // solid angle of a row of cells is 2 pi (cos theta_j - cos theta_j+1).
             let solid_angle = 2.0 * PI * ((PI * j as f64 / rows as f64).cos() - (PI * (j + 1) as f64 / rows as f64).cos());
             let mut row_rgb = glam::DVec3::ZERO;
             for i in 0..w {
@@ -197,6 +174,22 @@ impl EnvLight {
                 row_rgb += 0.25 * c.as_dvec3();
             }
             mean_rgb += row_rgb / w as f64 * solid_angle;
+        }
+        let mean_radiance = (mean_rgb / (4.0 * PI) * scale as f64).as_vec3();
+        let lum = compensated_luminance(map, scale, mean_radiance);
+        let mut row_weights = Vec::with_capacity(rows);
+        let mut conditional = Vec::with_capacity(rows * (w + 1));
+        for j in 0..rows {
+            let sin_theta = (PI * (j as f64 + 0.5) / rows as f64).sin();
+            let l = &lum.texels;
+            let cells: Vec<f64> = (0..w)
+                .map(|i| {
+                    let i1 = (i + 1) % w;
+                    0.25 * (l[j * w + i] + l[j * w + i1] + l[(j + 1) * w + i] + l[(j + 1) * w + i1]) * sin_theta
+                })
+                .collect();
+            row_weights.push(cells.iter().sum::<f64>());
+            conditional.extend(cdf_of(&cells));
         }
         let mean_integral = (mean_rgb.x + mean_rgb.y + mean_rgb.z) / 3.0 * scale as f64;
         let marginal = cdf_of(&row_weights);
@@ -208,7 +201,7 @@ impl EnvLight {
             cdf,
             scale,
             rotation_deg,
-            mean_radiance: (mean_rgb / (4.0 * PI) * scale as f64).as_vec3(),
+            mean_radiance,
             mean_integral,
             marginal,
             conditional,
