@@ -66,19 +66,8 @@ fn run() -> Result<(), String> {
     let glslang_version = Command::new(&glslang).arg("--version").output().map(|o| String::from_utf8_lossy(&o.stdout).into_owned()).unwrap_or_default();
     let inputs = tree_hash(&root, &["shaders", "host/build.rs", "host/gpu_abi/constants.rs", "host/pipeline/variants.rs", "host/accel/kinds.rs"])?;
     let stamp = format!("inputs {inputs:016x}; bench {bench}; glslang {glslang}: {glslang_version}");
-    let stamp_path = out.join("shaders.stamp");
-    if out.join("shaders.rs").exists() && std::fs::read_to_string(&stamp_path).is_ok_and(|s| s == stamp) {
-        return Ok(());
-    }
-
     let generated = out.join("glsl");
     let probes = out.join("probes");
-    for dir in [&generated, &probes] {
-        std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
-    }
-    write_constants(&generated.join("constants.glsl"))?;
-    write_layout_headers(&generated)?;
-
     let mut list = Vec::new();
     for shader in variants::SHADERS {
         if shader.role == Role::Bench && !bench {
@@ -101,6 +90,18 @@ fn run() -> Result<(), String> {
             }
         }
     }
+    // Up to date: the same inputs, and every file the table includes still there (a SPIR-V
+    // file deleted by hand would otherwise fail the build at its `include_bytes!`).
+    let stamp_path = out.join("shaders.stamp");
+    let all_there = out.join("shaders.rs").exists() && list.iter().all(|v| v.spv.exists());
+    if all_there && std::fs::read_to_string(&stamp_path).is_ok_and(|s| s == stamp) {
+        return Ok(());
+    }
+    for dir in [&generated, &probes] {
+        std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
+    }
+    write_constants(&generated.join("constants.glsl"))?;
+    write_layout_headers(&generated)?;
     compile_all(&glslang, &list, &shaders, &generated)?;
     write_table(&out.join("shaders.rs"), &list)?;
     std::fs::write(&stamp_path, stamp).map_err(|e| format!("writing {}: {e}", stamp_path.display()))
