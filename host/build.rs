@@ -261,6 +261,10 @@ fn write_constants(path: &Path) -> Result<(), String> {
         let suffix = if *value > i32::MAX as u32 { "u" } else { "" };
         let _ = writeln!(s, "#define {name} {value}{suffix}");
     }
+    // `{:?}` writes the shortest decimal that reads back as the same f32.
+    for (name, [x, y, z]) in constants::ALL_VEC3 {
+        let _ = writeln!(s, "const vec3 {name} = vec3({x:?}, {y:?}, {z:?});");
+    }
     s.push_str("#endif\n");
     std::fs::write(path, s).map_err(|e| format!("writing {}: {e}", path.display()))
 }

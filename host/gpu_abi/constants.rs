@@ -2,7 +2,8 @@
 //
 // This file is compiled twice: as `vkrt::gpu_abi::constants`, and by `host/build.rs`, which
 // writes each entry of `ALL` as a `#define` into the generated `constants.glsl` that every
-// shader includes. Only `u32` values; add a line to the table and both sides see it.
+// shader includes, and each of `ALL_VEC3` as a `const vec3`. Add a line to a table and both
+// sides see it.
 
 macro_rules! shared_constants {
     ($($(#[$meta:meta])* $name:ident = $value:expr;)*) => {
@@ -239,3 +240,12 @@ shared_constants! {
     /// `GpuPathParams::max_depth` meaning "unbounded".
     PATH_DEPTH_UNBOUNDED = 0xFFFF_FFFF;
 }
+
+/// Rec. 709 luminance weights of linear RGB (sRGB primaries): how the environment map's
+/// sampling distribution weighs its texels (as Mitsuba's envmap does; `prepare::envmap` and
+/// environment.glsl's `env_luminance`) and how automatic exposure meters an image
+/// (`output::display`). `crate::gpu_abi::luminance` applies them.
+pub const REC709_LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
+
+/// The shared `vec3` constants by name, for the GLSL generator.
+pub const ALL_VEC3: &[(&str, [f32; 3])] = &[("REC709_LUMINANCE", REC709_LUMINANCE)];

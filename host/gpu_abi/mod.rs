@@ -55,6 +55,14 @@ pub use dispatch::*;
 pub use nodes::*;
 pub use scene_data::*;
 
+/// Rec. 709 luminance of linear RGB ([`constants::REC709_LUMINANCE`]), in f32 and in the order
+/// the shaders' `dot` is read here: the host's half of the environment map's distribution and
+/// automatic exposure.
+pub fn luminance(c: [f32; 3]) -> f32 {
+    let [r, g, b] = constants::REC709_LUMINANCE;
+    r * c[0] + g * c[1] + b * c[2]
+}
+
 /// Every GPU struct's layout: what `tests/layout.rs` checks against the SPIR-V.
 pub const ALL_STRUCTS: &[&[StructLayout]] = &[nodes::STRUCTS, scene_data::STRUCTS, dispatch::STRUCTS];
 

@@ -2,6 +2,7 @@
 //! the sRGB encoding (`image::linear_to_srgb`). Only 8-bit outputs (PNG) go through it; float
 //! outputs (EXR, PFM) stay linear and scene-referred, exactly what the integrator computed.
 
+use crate::gpu_abi::luminance;
 use crate::integrator::Image;
 
 /// How bright the picture is: radiance is multiplied by 2^EV before the display transform.
@@ -43,11 +44,6 @@ pub enum Tonemap {
 /// Automatic exposure maps this percentile of the lit pixels' luminance to at most 1
 /// (docs/experiments/display-transform.md, "Highlights").
 pub const HIGHLIGHT_PERCENTILE: f64 = 0.95;
-
-/// Luminance of linear Rec. 709 / sRGB primaries.
-fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
 
 impl Exposure {
     /// The scale factor 2^EV for `image`.

@@ -20,6 +20,7 @@
 //! angle the density is p(u, v) / (2 pi^2 sin theta).
 
 use crate::gpu_abi::constants::*;
+use crate::gpu_abi::luminance;
 use crate::scene::envmap::{direction_to_uv, grid_position, rotate_y, uv_to_direction, EnvMap};
 use glam::{Vec2, Vec3};
 use std::f64::consts::PI;
@@ -46,16 +47,6 @@ pub struct EnvLight {
     pub compensation: f32,
     marginal: Vec<f32>,
     conditional: Vec<f32>,
-}
-
-/// Rec. 709 luminance weights, as Mitsuba's envmap weighs its texels (the shader's
-/// `env_luminance` writes them out).
-const LUMINANCE_WEIGHTS: [f32; 3] = [0.2126, 0.7152, 0.0722];
-
-/// A texel's luminance as the shader weighs it (`env_luminance`), in f32.
-fn luminance_f32(c: [f32; 3]) -> f32 {
-    let [r, g, b] = LUMINANCE_WEIGHTS;
-    r * c[0] + g * c[1] + b * c[2]
 }
 
 /// x in [0, 1) with density proportional to (1 - x) a + x b, a, b >= 0 (PBRT 4th ed.
@@ -112,8 +103,8 @@ struct Compensated {
 /// solid angle; the luminances are the shader's f32 ones. A map with no texel above the mean
 /// (a constant one) is left as it is.
 fn compensated_luminance(map: &EnvMap, scale: f32, mean_radiance: Vec3) -> Compensated {
-    let lum: Vec<f64> = map.texels.iter().map(|t| luminance_f32((Vec3::from(*t) * scale).to_array()) as f64).collect();
-    let mean = luminance_f32(mean_radiance.to_array());
+    let lum: Vec<f64> = map.texels.iter().map(|t| luminance((Vec3::from(*t) * scale).to_array()) as f64).collect();
+    let mean = luminance(mean_radiance.to_array());
     let compensation = if lum.iter().any(|l| *l > mean as f64) { mean } else { 0.0 };
     Compensated { texels: lum.iter().map(|l| (l - compensation as f64).max(0.0)).collect(), compensation }
 }
@@ -231,7 +222,7 @@ impl EnvLight {
     /// The compensated luminances of a cell's corners, which weigh the draw in the cell and its
     /// density (`env_cell_luminance`).
     fn corner_luminance(&self, cell: &[Vec3; 4]) -> [f32; 4] {
-        cell.map(|t| (luminance_f32(t.to_array()) - self.compensation).max(0.0))
+        cell.map(|t| (luminance(t.to_array()) - self.compensation).max(0.0))
     }
 
     fn row_cdf(&self, j: usize) -> &[f32] {
@@ -443,7 +434,7 @@ mod tests {
         let light = EnvLight::new(&map, 2.0, 0.0);
         assert!(light.compensation > 0.0);
         let sky = uv_to_direction(Vec2::new((20.0 + 0.5) / 32.0, 12.0 / 16.0));
-        assert!(2.0 * luminance_f32(map.radiance(sky).to_array()) < light.compensation, "the test needs a sky darker than the mean");
+        assert!(2.0 * luminance(map.radiance(sky).to_array()) < light.compensation, "the test needs a sky darker than the mean");
         assert_eq!(light.pdf(sky), 0.0, "a sky darker than the mean is not light-sampled");
         let sun = uv_to_direction(Vec2::new((5.0 + 0.5) / 32.0, 3.0 / 16.0));
         assert!(light.pdf(sun) > 0.0);

@@ -56,7 +56,7 @@ float env_cdf(uint k) {
 
 // Rec. 709 luminance, the weights the distribution was built with (prepare::envmap).
 float env_luminance(vec3 c) {
-    return dot(c, vec3(0.2126, 0.7152, 0.0722));
+    return dot(c, REC709_LUMINANCE);
 }
 
 // The texels at cell (i, j)'s corners (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1), fetched
