@@ -55,9 +55,9 @@ pub use dispatch::*;
 pub use nodes::*;
 pub use scene_data::*;
 
-/// Rec. 709 luminance of linear RGB ([`constants::REC709_LUMINANCE`]), in f32 and in the order
-/// the shaders' `dot` is read here: the host's half of the environment map's distribution and
-/// automatic exposure.
+/// Rec. 709 luminance of linear RGB ([`constants::REC709_LUMINANCE`]) in f32, the products
+/// summed in the order of the shaders' `dot(c, REC709_LUMINANCE)`: the host's half of the
+/// environment map's distribution, and automatic exposure.
 pub fn luminance(c: [f32; 3]) -> f32 {
     let [r, g, b] = constants::REC709_LUMINANCE;
     r * c[0] + g * c[1] + b * c[2]

@@ -168,11 +168,11 @@ impl EnvLight {
         }
         let mean_radiance = (mean_rgb / (4.0 * PI) * scale as f64).as_vec3();
         let lum = compensated_luminance(map, scale, mean_radiance);
+        let l = &lum.texels;
         let mut row_weights = Vec::with_capacity(rows);
         let mut conditional = Vec::with_capacity(rows * (w + 1));
         for j in 0..rows {
             let sin_theta = (PI * (j as f64 + 0.5) / rows as f64).sin();
-            let l = &lum.texels;
             let cells: Vec<f64> = (0..w)
                 .map(|i| {
                     let i1 = (i + 1) % w;
