@@ -103,10 +103,16 @@ struct Compensated {
 /// solid angle; the luminances are the shader's f32 ones. A map with no texel above the mean
 /// (a constant one) is left as it is.
 fn compensated_luminance(map: &EnvMap, scale: f32, mean_radiance: Vec3) -> Compensated {
-    let lum: Vec<f64> = map.texels.iter().map(|t| luminance((Vec3::from(*t) * scale).to_array()) as f64).collect();
+    let lum: Vec<f32> = map.texels.iter().map(|t| luminance((Vec3::from(*t) * scale).to_array())).collect();
     let mean = luminance(mean_radiance.to_array());
-    let compensation = if lum.iter().any(|l| *l > mean as f64) { mean } else { 0.0 };
-    Compensated { texels: lum.iter().map(|l| (l - compensation as f64).max(0.0)).collect(), compensation }
+    let compensation = if lum.iter().any(|l| *l > mean) { mean } else { 0.0 };
+    Compensated { texels: lum.iter().map(|l| compensate(*l, compensation) as f64).collect(), compensation }
+}
+
+/// A luminance less the compensation, floored at 0, in the shader's f32 arithmetic
+/// (`env_cell_luminance`): the one rule for the cells' weights and the draw inside a cell.
+fn compensate(luminance: f32, compensation: f32) -> f32 {
+    (luminance - compensation).max(0.0)
 }
 
 /// GLSL's `mix`: x (1 - t) + y t.
@@ -222,7 +228,7 @@ impl EnvLight {
     /// The compensated luminances of a cell's corners, which weigh the draw in the cell and its
     /// density (`env_cell_luminance`).
     fn corner_luminance(&self, cell: &[Vec3; 4]) -> [f32; 4] {
-        cell.map(|t| (luminance(t.to_array()) - self.compensation).max(0.0))
+        cell.map(|t| compensate(luminance(t.to_array()), self.compensation))
     }
 
     fn row_cdf(&self, j: usize) -> &[f32] {
