@@ -38,10 +38,10 @@ Hit traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_hit) {
     RayPre r = ray_pre(origin, dir, tmin, tmax);
     Hit hit = hit_none();
     uint count = node_count();
-    // The grid read once, before the loop: lavapipe reads a push constant as six bounds-checked
-    // scalar loads and broadcasts, and a read inside the loop comes after the node's texel
-    // fetch, an opaque call that LLVM must assume may write the push constants, so it stayed
-    // in every step (~30 instructions with six branches; docs/experiments/per-step-cost.md).
+    // The grid read once, before the loop: lavapipe reads each word of a push constant as a
+    // bounds-checked scalar load and a broadcast (six for the grid), and a read inside the loop
+    // comes after the node's texel fetch, an opaque call that LLVM must assume may write the
+    // push constants, so it stayed in every step (docs/experiments/per-step-cost.md).
     vec3 grid_origin = push.grid_origin;
     vec3 grid_scale = push.grid_scale;
     uint index = 0u;
