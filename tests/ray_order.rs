@@ -78,6 +78,37 @@ fn every_order_gives_the_same_hits() {
     common::assert_no_validation_messages(&ctx);
 }
 
+/// Submissions grow while the device is fast (`query::ray_query::next_batch`), and a slot whose
+/// batches outgrew it is replaced by a larger one: whatever the submissions' sizes, the hits are
+/// the same, in the caller's order, sorted or not.
+#[test]
+fn the_submissions_size_changes_no_hit() {
+    let scene = vkrt::scene::load_scene(&common::repo_path("scenes/cornell-measured/cornell.yaml")).unwrap();
+    let (lo, hi) = scene.triangles.iter().flat_map(|t| t.p).fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), p| (l.min(p), h.max(p)));
+    // More than a window, so the sizes carry across windows.
+    let rays = incoherent_rays(ORDER_WINDOW + 70_001, lo, hi, 23);
+    let ctx = gpu_context();
+    let prepared = PreparedScene::new(&scene, &PrepareOptions::default()).unwrap();
+    let gpu = GpuScene::upload(&ctx, &prepared).unwrap();
+    let plain = RayQuery::new(&ctx, &gpu.bvh).unwrap();
+    plain.set_batch_rays(RAYS_PER_BATCH);
+    let expected = plain.trace(&rays, false).unwrap();
+    for order in [RayOrder::Given, RayOrder::Sorted] {
+        // A ragged size, larger than the slots the query starts with, then a small one.
+        for size in [3 * RAYS_PER_BATCH + 17, 1000] {
+            let mut query = RayQuery::new(&ctx, &gpu.bvh).unwrap();
+            query.order = order;
+            query.set_batch_rays(size);
+            let got = query.trace(&rays, false).unwrap();
+            let differ = expected.iter().zip(&got).position(|(a, b)| a != b);
+            assert!(got.len() == rays.len() && differ.is_none(), "{order:?}, {size} rays per submission: ray {differ:?} got another hit");
+            // The query goes on from where its batches got to, its slots already grown.
+            assert!(query.trace(&rays[..300_000], false).unwrap() == expected[..300_000], "{order:?}, {size}: a second trace differs");
+        }
+    }
+    common::assert_no_validation_messages(&ctx);
+}
+
 /// The warm-up dispatch (`RayQuery::warm_up`, which `vkrt trace` and `vkrt bvh` run first so
 /// that lavapipe's shader compile is not timed) is neither timed nor counted, and leaves the
 /// query tracing the same hits as a query without it.

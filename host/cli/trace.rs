@@ -150,7 +150,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
         .filter(|&s| s > 0.0)
         .map_or(String::new(), |s| format!("; traversal alone {:.3} M rays/s by device timestamps", report.rays as f64 / s / 1e6));
     eprintln!(
-        "traced {} rays ({} hit, {} in sorted order) on {} with {} / {}: {:.3} M rays/s (upload, sorting, traversal and read-back; build {:.0} ms not counted{device_rate}), {:.1} nodes visited and {:.2} triangles tested per ray",
+        "traced {} rays ({} hit, {} in sorted order) on {} with {} / {}: {:.3} M rays/s (upload, sorting, traversal and read-back; build {:.0} ms not counted{device_rate}; {} rays per submission at the end), {:.1} nodes visited and {:.2} triangles tested per ray",
         report.rays,
         report.hits,
         report.reordered,
@@ -159,6 +159,7 @@ pub fn run(args: &TraceArgs) -> Result<TraceReport> {
         walk,
         report.rays as f64 / report.gpu_seconds.max(1e-9) / 1e6,
         build_times.bvh() * 1e3,
+        query.batch_rays(),
         per_ray(report.nodes_visited),
         per_ray(report.tris_tested)
     );

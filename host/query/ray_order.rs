@@ -79,9 +79,14 @@ fn threads_for(len: usize) -> usize {
 }
 
 /// Runs `f` on matching consecutive parts of `input` and `out` (equal lengths), one thread per
-/// part: the host's cores have nothing else to do while the device waits for the batch.
+/// part: the host's cores have nothing else to do while the device waits for the batch. One
+/// part runs on the calling thread.
 pub fn parallel_zip<A: Sync, B: Send>(input: &[A], out: &mut [B], f: impl Fn(&[A], &mut [B]) + Sync) {
-    let part = input.len().div_ceil(threads_for(input.len())).max(1);
+    let threads = threads_for(input.len());
+    if threads == 1 {
+        return f(input, out);
+    }
+    let part = input.len().div_ceil(threads).max(1);
     std::thread::scope(|scope| {
         for (a, b) in input.chunks(part).zip(out.chunks_mut(part)) {
             scope.spawn(|| f(a, b));
