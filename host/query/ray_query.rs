@@ -35,8 +35,8 @@ pub const ORDER_WINDOW: usize = 1 << 20;
 
 /// The rays of the submission after one of `rays` rays (the current size) that took `seconds`
 /// on the device: twice as many while it took under half of [`BATCH_SECONDS`], half as many
-/// (not below [`RAYS_PER_BATCH`]) when it took over twice that, at most `max`. Sizes stay
-/// [`RAYS_PER_BATCH`] times a power of two.
+/// (not below [`RAYS_PER_BATCH`]) when it took over twice that, at most `max`. Started at
+/// [`RAYS_PER_BATCH`], as every query's batches are, sizes stay that times a power of two.
 pub fn next_batch(rays: usize, seconds: f64, max: usize) -> usize {
     let max = max.max(RAYS_PER_BATCH);
     if seconds < 0.5 * BATCH_SECONDS && 2 * rays <= max {
