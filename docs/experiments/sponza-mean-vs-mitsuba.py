@@ -26,22 +26,18 @@ lum = ref @ np.array([0.2126, 0.7152, 0.0722])
 dim = (lum >= 0.01) & (lum < 0.05)
 print(f"dim pixels: {dim.sum()} of {dim.size}", flush=True)
 cam = vkrt_scene_flags(SimpleNamespace(vkrt_camera=True, eye=spec["eye"], target=spec["target"], up=spec["up"], fov=spec["fov"], envmap=rl.ENVMAP))
-os.makedirs(WORK, exist_ok=True)
 scene = mitsuba_scene(mi, obj, mtl, {"eye": spec["eye"], "target": spec["target"], "up": spec["up"], "fov": spec["fov"]}, 320, 240, WORK, rl.ENVMAP)
-if DEPTH > 0:
-    scene = mi.load_dict({"type": "path", "max_depth": DEPTH, "rr_depth": 5}), scene
-    integ, scene = scene
-else:
-    integ = None
-os.makedirs(WORK, exist_ok=True)
+# None: the scene's own integrator (unbounded depth).
+integ = mi.load_dict({"type": "path", "max_depth": DEPTH, "rr_depth": 5}) if DEPTH > 0 else None
+depth_flags = ["--max-depth", str(DEPTH)] if DEPTH > 0 else []
 res = {"vkrt": [], "mitsuba": []}
 for k in range(N):
     seed = 100 + k
     out = os.path.join(WORK, "v.exr")
     subprocess.run(["target/release/vkrt", "render", obj, "--integrator", "path", "--width", "320", "--height", "240", "--spp", str(SPP),
-                    "--seed", str(seed), "-o", out, *cam, *([] if DEPTH < 0 else ["--max-depth", str(DEPTH)])], check=True, capture_output=True)
+                    "--seed", str(seed), "-o", out, *cam, *depth_flags], check=True, capture_output=True)
     v = load(out)
-    m = np.array(mi.render(scene, spp=SPP, seed=seed, integrator=integ) if integ else mi.render(scene, spp=SPP, seed=seed), dtype=np.float64)[..., :3]
+    m = np.array(mi.render(scene, spp=SPP, seed=seed, integrator=integ), dtype=np.float64)[..., :3]
     for key, img in (("vkrt", v), ("mitsuba", m)):
         res[key].append((img[dim].sum() / ref[dim].sum(), img.sum() / ref.sum()))
     print(k, " ".join(f"{key} dim {res[key][-1][0]:.4f} all {res[key][-1][1]:.4f}" for key in res), flush=True)
