@@ -6,6 +6,8 @@ the reference's; means, standard errors and the paired difference. Needs the ref
 (tools/realistic_ladder.py --scenes sponza --reference-spp 2048), mitsuba and numpy:
 
     python3 docs/experiments/sponza-mean-vs-mitsuba.py 40 32 [DEPTH]
+
+The vkrt binary is target/release/vkrt, or the one the VKRT variable names (a throwaway build).
 """
 import sys, os, subprocess, statistics, numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -30,11 +32,12 @@ scene = mitsuba_scene(mi, obj, mtl, {"eye": spec["eye"], "target": spec["target"
 # None: the scene's own integrator (unbounded depth).
 integ = mi.load_dict({"type": "path", "max_depth": DEPTH, "rr_depth": 5}) if DEPTH > 0 else None
 depth_flags = ["--max-depth", str(DEPTH)] if DEPTH > 0 else []
+VKRT = os.environ.get("VKRT", "target/release/vkrt")
 res = {"vkrt": [], "mitsuba": []}
 for k in range(N):
     seed = 100 + k
     out = os.path.join(WORK, "v.exr")
-    subprocess.run(["target/release/vkrt", "render", obj, "--integrator", "path", "--width", "320", "--height", "240", "--spp", str(SPP),
+    subprocess.run([VKRT, "render", obj, "--integrator", "path", "--width", "320", "--height", "240", "--spp", str(SPP),
                     "--seed", str(seed), "-o", out, *cam, *depth_flags], check=True, capture_output=True)
     v = load(out)
     m = np.array(mi.render(scene, spp=SPP, seed=seed, integrator=integ), dtype=np.float64)[..., :3]
