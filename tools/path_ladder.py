@@ -5,7 +5,7 @@ CornellBox-Sphere 256²), each run by tools/path_time_to_error.py with --rounds 
 interleaved rounds), then one summary: per scene and sample count, relMSE x seconds of vkrt over
 Mitsuba's (the goal: <= 0.5x) and HDR-FLIP at equal time (Mitsuba's FLIP log-log interpolated at
 vkrt's time along the bracketing segment of its curve, extrapolated along the end segment past
-its ends; the goal: lower), with the machine named.
+its ends; none with a single sample count; the goal: lower), with the machine named.
 
 References: cornell-measured uses ../shared/refs/cornell-512.exr; the Mirror and Sphere boxes
 use Mitsuba renders that this tool makes first where absent (`--make-reference`, 8192 spp, in
@@ -59,10 +59,12 @@ def tool(args):
 
 
 def loglog(points, t):
-    """FLIP at time t on the log-log polyline through (seconds, FLIP) `points`."""
+    """FLIP at time t on the log-log polyline through (seconds, FLIP) `points` (its end segments
+    extended past the ends), or None with fewer than two points: one point says nothing about
+    FLIP at another time, and reporting it as "at vkrt's time" would compare unequal times."""
     points = sorted(points)
-    if len(points) == 1:
-        return points[0][1]
+    if len(points) < 2:
+        return None
     for i in range(len(points) - 1):
         if t <= points[i + 1][0] or i == len(points) - 2:
             (t0, f0), (t1, f1) = points[i], points[i + 1]

@@ -33,7 +33,8 @@ Debian 12 `libllvm19`; the scene preparation alone needs only the standard libra
   python3 tools/realistic_ladder.py [--scenes sponza sibenik conference dragon buddha]
       [--spp 16 64 256] [--rounds 2] [--reference-spp 2048] [--out target/bench/realistic-ladder]
   python3 tools/realistic_ladder.py --prepare-only      # only write the scenes
-A quick check at a small size: --size 64 48 --spp 16 --rounds 1 --reference-spp 64.
+A quick check at a small size: --size 64 48 --spp 16 --rounds 1 --reference-spp 64 (FLIP at
+equal time needs two or more sample counts: with one it shows "-").
 """
 import argparse
 import hashlib
