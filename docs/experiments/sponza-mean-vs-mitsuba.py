@@ -9,26 +9,16 @@ the reference's; means, standard errors and the paired difference. Needs the ref
 
 The vkrt binary is target/release/vkrt, or the one the VKRT variable names (a throwaway build).
 """
-import sys, os, subprocess, statistics, numpy as np
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "tools")); os.chdir(ROOT)
-import realistic_ladder as rl
-from types import SimpleNamespace
-from path_time_to_error import vkrt_scene_flags, mitsuba_scene
-import mitsuba as mi
-import tempfile
+import sys, os, statistics, tempfile, numpy as np
+import sponza_setup as sp
+from path_time_to_error import mitsuba_scene
+mi = sp.mi
 WORK = tempfile.mkdtemp(prefix="vkrt-sponza-mean-")
 mi.set_variant("llvm_ad_rgb")
 N = int(sys.argv[1]); SPP = int(sys.argv[2]); DEPTH = int(sys.argv[3]) if len(sys.argv) > 3 else -1
-name = "sponza"; spec = rl.SCENES[name]; obj, mtl, _, _ = rl.prepare(name, spec)
-ref_path = rl.reference_path(name, spec, obj, mtl, 320, 240, 2048)
-load = lambda p: np.array(mi.Bitmap(p).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
-ref = load(ref_path)
-lum = ref @ np.array([0.2126, 0.7152, 0.0722])
-dim = (lum >= 0.01) & (lum < 0.05)
+ref, dim = sp.reference_and_dim()
 print(f"dim pixels: {dim.sum()} of {dim.size}", flush=True)
-cam = vkrt_scene_flags(SimpleNamespace(vkrt_camera=True, eye=spec["eye"], target=spec["target"], up=spec["up"], fov=spec["fov"], envmap=rl.ENVMAP))
-scene = mitsuba_scene(mi, obj, mtl, {"eye": spec["eye"], "target": spec["target"], "up": spec["up"], "fov": spec["fov"]}, 320, 240, WORK, rl.ENVMAP)
+scene = mitsuba_scene(mi, sp.OBJ, sp.MTL, sp.CAMERA, sp.WIDTH, sp.HEIGHT, WORK, sp.ENVMAP)
 # None: the scene's own integrator (unbounded depth).
 integ = mi.load_dict({"type": "path", "max_depth": DEPTH, "rr_depth": 5}) if DEPTH > 0 else None
 depth_flags = ["--max-depth", str(DEPTH)] if DEPTH > 0 else []
@@ -36,10 +26,7 @@ VKRT = os.environ.get("VKRT", "target/release/vkrt")
 res = {"vkrt": [], "mitsuba": []}
 for k in range(N):
     seed = 100 + k
-    out = os.path.join(WORK, "v.exr")
-    subprocess.run([VKRT, "render", obj, "--integrator", "path", "--width", "320", "--height", "240", "--spp", str(SPP),
-                    "--seed", str(seed), "-o", out, *cam, *depth_flags], check=True, capture_output=True)
-    v = load(out)
+    v = sp.render_vkrt(VKRT, seed, SPP, os.path.join(WORK, "v.exr"), depth_flags)
     m = np.array(mi.render(scene, spp=SPP, seed=seed, integrator=integ), dtype=np.float64)[..., :3]
     for key, img in (("vkrt", v), ("mitsuba", m)):
         res[key].append((img[dim].sum() / ref[dim].sum(), img.sum() / ref.sum()))

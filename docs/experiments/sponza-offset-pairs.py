@@ -8,31 +8,19 @@ pixels, mean and standard error over the seeds. Needs the reference
 
     python3 docs/experiments/sponza-offset-pairs.py A_BINARY B_BINARY [SEEDS [SPP]]
 """
-import sys, os, subprocess, statistics, tempfile, numpy as np
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "tools")); os.chdir(ROOT)
-import realistic_ladder as rl
-from types import SimpleNamespace
-from path_time_to_error import vkrt_scene_flags
-import mitsuba as mi
-mi.set_variant("scalar_rgb")
+import sys, os, statistics, tempfile
+import sponza_setup as sp
+sp.mi.set_variant("scalar_rgb")
 A, B = sys.argv[1], sys.argv[2]
 SEEDS = int(sys.argv[3]) if len(sys.argv) > 3 else 6
 SPP = int(sys.argv[4]) if len(sys.argv) > 4 else 32
 WORK = tempfile.mkdtemp(prefix="vkrt-sponza-pairs-")
-name = "sponza"; spec = rl.SCENES[name]; obj, mtl, _, _ = rl.prepare(name, spec)
-load = lambda p: np.array(mi.Bitmap(p).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
-ref = load(rl.reference_path(name, spec, obj, mtl, 320, 240, 2048))
-dim = (ref @ np.array([0.2126, 0.7152, 0.0722]) >= 0.01) & (ref @ np.array([0.2126, 0.7152, 0.0722]) < 0.05)
-cam = vkrt_scene_flags(SimpleNamespace(vkrt_camera=True, eye=spec["eye"], target=spec["target"], up=spec["up"], fov=spec["fov"], envmap=rl.ENVMAP))
+_, dim = sp.reference_and_dim()
 ratios = []
 for seed in range(11, 11 + SEEDS):
     sums = []
     for binary in (A, B):
-        out = os.path.join(WORK, "img.exr")
-        subprocess.run([binary, "render", obj, "--integrator", "path", "--width", "320", "--height", "240", "--spp", str(SPP),
-                        "--seed", str(seed), "-o", out, *cam], check=True, capture_output=True)
-        img = load(out)
+        img = sp.render_vkrt(binary, seed, SPP, os.path.join(WORK, "img.exr"))
         sums.append((img[dim].sum(), img.sum()))
     ratios.append((sums[1][0] / sums[0][0], sums[1][1] / sums[0][1]))
     print(f"seed {seed}: B / A dim {ratios[-1][0]:.5f} all {ratios[-1][1]:.5f}", flush=True)
